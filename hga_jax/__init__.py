@@ -1,0 +1,27 @@
+"""hga-jax: shortest Dubins-car paths among circular obstacles with a hierarchical GA.
+
+Notebook use::
+
+    import hga_jax as hg
+    sc = hg.load_scenario("configs/scenarios/robocup_paper.toml")
+    res = hg.run_many(sc, runs=100, seed=1)
+    print(res.summary())
+    hg.plot_path(sc, res.best.segments, touched=res.best.touched)
+"""
+__version__ = "0.1.0"
+
+from .config import load_scenario, scenario_from_dict
+from .errors import ConfigError
+from .exact import solve
+from .path import Path, evaluate_path, from_chromosome
+from .plots import plot_convergence, plot_path, save_figure
+from .results import RunsResult
+from .runner import run_many, settings_for
+from .scenario import Field, Scenario
+from .settings import GASettings
+
+__all__ = [
+    "ConfigError", "Field", "GASettings", "Path", "RunsResult", "Scenario",
+    "evaluate_path", "from_chromosome", "load_scenario", "plot_convergence", "plot_path",
+    "run_many", "save_figure", "scenario_from_dict", "settings_for", "solve",
+]

@@ -1,0 +1,188 @@
+"""Loading and validating scenario files (TOML).
+
+A scenario file holds (units: metres and degrees; headings are converted to
+radians in the returned :class:`~hga_jax.scenario.Scenario`)::
+
+    name = "..."
+    [robot]      radius, min_turn_radius
+    [start]      x, y, heading_deg
+    [goal]       x, y, heading_deg
+    [[obstacles]] x, y, radius (optional, default: the robot's radius)
+    [field]      xmin, xmax, ymin, ymax, keep_inside (optional, default false)
+    [ga]         GA settings, checked by :class:`~hga_jax.settings.GASettings`
+
+``obstacles``, ``field`` and ``ga`` may be absent. Every problem raises
+:class:`~hga_jax.errors.ConfigError` with one line ``"<source>: <key>: <problem>"``
+where the key is a dotted path such as ``obstacles[3].x`` (0-based).
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from .errors import ConfigError
+from .scenario import Field, Scenario
+from .settings import GASettings
+
+TOL = 1e-9  # metres: a point counts as inside a circle only by more than this
+
+# Table-driven schema: key -> (kind, required).
+Spec = dict[str, tuple[str, bool]]
+TOP: Spec = {
+    "name": ("string", True), "robot": ("table", True), "start": ("table", True),
+    "goal": ("table", True), "obstacles": ("tables", False), "field": ("table", False),
+    "ga": ("table", False),
+}
+ROBOT: Spec = {"radius": ("number", True), "min_turn_radius": ("number", True)}
+POSE: Spec = {"x": ("number", True), "y": ("number", True), "heading_deg": ("number", True)}
+OBSTACLE: Spec = {"x": ("number", True), "y": ("number", True), "radius": ("number", False)}
+FIELD: Spec = {
+    "xmin": ("number", True), "xmax": ("number", True), "ymin": ("number", True),
+    "ymax": ("number", True), "keep_inside": ("bool", False),
+}
+
+
+def _error(source: str, key: str, problem: str) -> ConfigError:
+    """A :class:`ConfigError` with the one-line message ``source: key: problem``."""
+    return ConfigError(" ".join(f"{source}: {key}: {problem}".split()))
+
+
+def _value(v: Any, kind: str, source: str, key: str) -> Any:
+    """Check one value against its kind; numbers come back as finite floats."""
+    if kind == "number":
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise _error(source, key, f"must be a number, got {v!r}")
+        if not math.isfinite(v):
+            raise _error(source, key, f"must be finite, got {v!r}")
+        return float(v)
+    if kind == "bool" and not isinstance(v, bool):
+        raise _error(source, key, f"must be true or false, got {v!r}")
+    if kind == "string" and not isinstance(v, str):
+        raise _error(source, key, f"must be a string, got {v!r}")
+    if kind == "table" and not isinstance(v, Mapping):
+        raise _error(source, key, f"must be a table, got {v!r}")
+    if kind == "tables":
+        if not isinstance(v, (list, tuple)):
+            raise _error(source, key, f"must be an array of tables, got {v!r}")
+        for i, item in enumerate(v):
+            _value(item, "table", source, f"{key}[{i}]")
+    return v
+
+
+def _table(table: Mapping[str, Any], spec: Spec, source: str, where: str) -> dict[str, Any]:
+    """Check a table's keys (unknown, missing) and value kinds against ``spec``."""
+    prefix = f"{where}." if where else ""
+    for key in table:
+        if key not in spec:
+            raise _error(source, f"{prefix}{key}", f"unknown key (known: {', '.join(spec)})")
+    out: dict[str, Any] = {}
+    for key, (kind, required) in spec.items():
+        if key in table:
+            out[key] = _value(table[key], kind, source, f"{prefix}{key}")
+        elif required:
+            raise _error(source, f"{prefix}{key}", "missing key")
+    return out
+
+
+def _positive(v: float, source: str, key: str) -> float:
+    """Return ``v`` if it is > 0 (a radius, metres), else raise."""
+    if v <= 0.0:
+        raise _error(source, key, f"must be > 0, got {v!r}")
+    return v
+
+
+def _pose(table: Mapping[str, Any], source: str, key: str) -> tuple[float, float, float]:
+    """A pose ``(x, y, heading)`` in metres and radians from a ``[start]``/``[goal]`` table."""
+    t = _table(table, POSE, source, key)
+    return (t["x"], t["y"], math.radians(t["heading_deg"]))
+
+
+def _field(table: Mapping[str, Any], r: float, source: str) -> Field:
+    """The field rectangle (metres), checked for order and, when kept, size."""
+    t = _table(table, FIELD, source, "field")
+    f = Field(t["xmin"], t["xmax"], t["ymin"], t["ymax"], t.get("keep_inside", False))
+    for lo, hi in (("xmin", "xmax"), ("ymin", "ymax")):
+        a, b = getattr(f, lo), getattr(f, hi)
+        if a >= b:
+            raise _error(source, f"field.{hi}", f"must be > field.{lo} ({a:g}), got {b:g}")
+        if f.keep_inside and b - a <= 2.0 * r:
+            raise _error(source, "field", f"{hi} - {lo} = {b - a:g} leaves no room for "
+                         f"a robot of radius {r:g} (keep_inside = true)")
+    return f
+
+
+def _obstacles(items: Any, r: float, source: str) -> tuple[np.ndarray, np.ndarray]:
+    """Obstacle centres ``(n, 2)`` and physical radii ``(n,)`` in metres."""
+    centres, radii = [], []
+    for i, item in enumerate(items):
+        t = _table(item, OBSTACLE, source, f"obstacles[{i}]")
+        radii.append(_positive(t.get("radius", r), source, f"obstacles[{i}].radius"))
+        c = (t["x"], t["y"])
+        for j, other in enumerate(centres):
+            if math.dist(c, other) <= TOL:
+                raise _error(source, f"obstacles[{i}]", f"same centre as obstacles[{j}]")
+        centres.append(c)
+    return np.asarray(centres, float).reshape(-1, 2), np.asarray(radii, float)
+
+
+def _check_pose(s: Scenario, key: str, pose: tuple[float, float, float]) -> None:
+    """Raise if the pose point is inside a model circle or (kept) outside the field."""
+    x, y, _ = pose
+    for i, (c, big_r) in enumerate(zip(s.centres, s.model_radii)):
+        d = math.dist((x, y), c)
+        if d < big_r - TOL:
+            raise _error(s.source, key, f"point ({x:g}, {y:g}) is inside the model circle "
+                         f"of obstacles[{i}] (distance {d:.6g} < R {big_r:.6g})")
+    f, r = s.field, s.robot_radius
+    if f is not None and f.keep_inside:
+        if not (f.xmin + r - TOL <= x <= f.xmax - r + TOL
+                and f.ymin + r - TOL <= y <= f.ymax - r + TOL):
+            raise _error(s.source, key, f"point ({x:g}, {y:g}) is outside the field shrunk "
+                         f"by the robot radius [{f.xmin + r:g}, {f.xmax - r:g}] x "
+                         f"[{f.ymin + r:g}, {f.ymax - r:g}]")
+
+
+def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>") -> Scenario:
+    """A validated :class:`Scenario` from a mapping laid out like a scenario file.
+
+    Units: metres and degrees in; metres and radians in the result.
+    """
+    if not isinstance(mapping, Mapping):
+        raise _error(source, "scenario", f"must be a table, got {type(mapping).__name__}")
+    top = _table(mapping, TOP, source, "")
+    name = top["name"]
+    if not name.strip():
+        raise _error(source, "name", "must be a non-empty string")
+    robot = _table(top["robot"], ROBOT, source, "robot")
+    r = _positive(robot["radius"], source, "robot.radius")
+    rho = _positive(robot["min_turn_radius"], source, "robot.min_turn_radius")
+    start, goal = _pose(top["start"], source, "start"), _pose(top["goal"], source, "goal")
+    fld = _field(top["field"], r, source) if "field" in top else None
+    centres, radii = _obstacles(top.get("obstacles", ()), r, source)
+    ga = dict(top.get("ga", {}))
+    GASettings.from_mapping(ga, source)
+    s = Scenario(name=name, robot_radius=r, min_turn_radius=rho, start=start, goal=goal,
+                 centres=centres, radii=radii, field=fld, ga=ga, source=source)
+    _check_pose(s, "start", start)
+    _check_pose(s, "goal", goal)
+    return s
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load and validate a scenario TOML file (metres and degrees; see module doc)."""
+    source = str(path)
+    try:
+        text = Path(path).read_bytes().decode("utf-8")
+    except OSError as e:
+        raise _error(source, "file", f"cannot read: {e.strerror or e}") from None
+    except UnicodeDecodeError as e:
+        raise _error(source, "file", f"not UTF-8 text: {e.reason} at byte {e.start}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise _error(source, "toml", f"syntax error: {e}") from None
+    return scenario_from_dict(data, source)

@@ -1,0 +1,171 @@
+"""Decoding a batch of chromosomes into tight-rope paths: length and violations.
+
+A chromosome (MODEL.md, paper 3.3) is stored as
+- ``perm``: (n,) int32, the obstacle indices 0..n-1 in upper-module order
+  (the upper module is ``[0, perm + 1, n + 1]``);
+- ``labels``: (n + 2,) int32, the lower module: start, one label per permutation
+  position, goal; ``+1`` CW, ``-1`` CCW, ``0`` not touched.
+
+``decode_batch`` works on a batch ``(B, n)`` / ``(B, n + 2)`` with fixed shapes:
+the touched circles are compacted to the front of a slot axis (a one-hot
+gather, no Python loop over genes), then a ``lax.scan`` over the ``n + 1``
+possible legs does tangent, arc and collision work with the batch axis innermost
+(the layout XLA vectorises well), masking legs past the last touched circle.
+
+Violations (``collision = "full"``): each (segment, obstacle) and (arc, obstacle)
+pair closer than the model radius by more than the tolerance (an arc never
+against its own circle), each missing tangent, and, when the field is kept,
+each piece leaving it. ``collision = "paper"``: (segment, obstacle) pairs by the
+paper's Appendix B criterion instead of segment and arc clearance; missing
+tangents and the field count in both modes, since they are properties of the
+path, not of the collision test.
+"""
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from . import geometry as g
+from .scenario import ScenarioArrays
+
+
+class Decoded(NamedTuple):
+    """Decoded paths of a batch of B chromosomes (leading axis B everywhere).
+
+    length: (B,) path length in metres (arcs + segments).
+    violations: (B,) int32 violation count.
+    count: (B,) number of circles on the path (start and goal included).
+    circles: (B, S, 4) per slot ``cx, cy, r, sign``; slot ``s < count`` is the
+      s-th circle of the path (S = n + 2); ``obstacle``: (B, S) obstacle index or -1.
+    arcs: (B, S, 5) per slot: arrival point ``ax, ay``, departure ``bx, by``, sweep
+      (rad, >= 0); slot ``count - 1`` is the goal arc ending at the goal point.
+    lines: (B, S - 1, 5) per leg ``p1x, p1y, p2x, p2y, exists``; leg s joins slot s
+      to slot s + 1 and is real for ``s < count - 1``.
+    """
+
+    length: Any
+    violations: Any
+    count: Any
+    circles: Any
+    obstacle: Any
+    arcs: Any
+    lines: Any
+
+
+def _position_circles(sa: ScenarioArrays, perm, labels):
+    """Circle of every chromosome position, as (L, B) arrays ``cx, cy, r, sign, id``."""
+    lab = labels.T.astype(sa.centres.dtype)  # (L, B)
+    ids = perm.T  # (n, B)
+    scx, scy = g.turning_circle(sa.start[0], sa.start[1], sa.start[2], sa.rho, lab[0])
+    gcx, gcy = g.turning_circle(sa.goal[0], sa.goal[1], sa.goal[2], sa.rho, lab[-1])
+    ocx = sa.centres[:, 0][ids]
+    ocy = sa.centres[:, 1][ids]
+    orr = sa.model_radii[ids]
+    batch = labels.shape[0]
+    rho = jnp.broadcast_to(sa.rho, (1, batch)).astype(lab.dtype)
+    cx = jnp.concatenate([scx[None], ocx, gcx[None]])
+    cy = jnp.concatenate([scy[None], ocy, gcy[None]])
+    r = jnp.concatenate([rho, orr, rho])
+    none = jnp.full((1, batch), -1, jnp.int32)
+    oid = jnp.concatenate([none, ids.astype(jnp.int32), none])
+    return cx, cy, r, lab, oid
+
+
+def _compact(active, *columns):
+    """Move the active rows of each (L, B) column to the front, keeping their order."""
+    length = active.shape[0]
+    rank = jnp.cumsum(active, axis=0) - 1
+    slot = jnp.arange(length)[:, None, None]
+    pick = active[None] & (rank[None] == slot)  # (slot, position, B)
+    out = tuple(jnp.sum(jnp.where(pick, col[None], jnp.zeros_like(col[None])), axis=1)
+                for col in columns)
+    return rank[-1] + 1, out
+
+
+def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> Decoded:
+    """Decode ``perm`` (B, n) and ``labels`` (B, n + 2) against scenario ``sa``.
+
+    Pure and jit/vmap-able; ``collision`` is static. The float dtype is the
+    scenario's (float32 for the search, float64 for exact re-evaluation).
+    """
+    sa = jax.tree.map(jnp.asarray, sa)
+    dt = sa.centres.dtype
+    tol = g.tolerances(dt)
+    cx, cy, r, sign, oid = _position_circles(sa, perm, labels)
+    count, (cx, cy, r, sign, oid) = _compact(sign != 0, cx, cy, r, sign, oid)
+    qx = sa.centres[:, 0][:, None]  # (n, 1) obstacle centres against (1, B) pieces
+    qy = sa.centres[:, 1][:, None]
+    qr = sa.model_radii[:, None]
+    own = jnp.arange(sa.centres.shape[0])[:, None]
+    bounds = sa.bounds
+    full = collision == "full"
+
+    def arc_violations(c, a, b, swp):
+        (ccx, ccy, cr, cs, cid) = c
+        v = jnp.zeros(swp.shape, jnp.int32)
+        if full:
+            hit = g.arc_hits(ccx, ccy, cr, a[0], a[1], b[0], b[1], swp, cs, qx, qy, qr, tol.length)
+            v = v + jnp.sum(hit & (own != cid), axis=0, dtype=jnp.int32)
+        out = g.arc_leaves_box(ccx, ccy, cr, a[0], a[1], b[0], b[1], swp, cs, bounds, tol.length)
+        return v + out.astype(jnp.int32)
+
+    def leg(carry, xs):
+        ax, ay, length, viol = carry
+        c1, c2, real = xs
+        (c1x, c1y, c1r, c1s, _), (c2x, c2y, c2r, c2s, _) = c1, c2
+        fux, fuy = g.heading_on_circle(ax, ay, c1x, c1y, c1s)
+        t = g.tangent(c1x, c1y, c1r, c1s, c2x, c2y, c2r, c2s, fux, fuy, tol.eps)
+        swp = g.sweep(ax - c1x, ay - c1y, t.p1x - c1x, t.p1y - c1y, c1s, tol.angle)
+        v = arc_violations(c1, (ax, ay), (t.p1x, t.p1y), swp)
+        hits = (g.segment_hits if full else g.segment_hits_paper)(
+            t.p1x, t.p1y, t.p2x, t.p2y, qx, qy, qr, tol.length)
+        v = v + jnp.sum(hits, axis=0, dtype=jnp.int32) + (~t.exists).astype(jnp.int32)
+        v = v + g.segment_leaves_box(t.p1x, t.p1y, t.p2x, t.p2y, bounds, tol.length)
+        zero = jnp.zeros_like(swp)
+        new = (
+            jnp.where(real, t.p2x, ax),
+            jnp.where(real, t.p2y, ay),
+            length + jnp.where(real, c1r * swp + t.length, zero),
+            viol + jnp.where(real, v, 0),
+        )
+        arc = jnp.stack([ax, ay, t.p1x, t.p1y, jnp.where(real, swp, zero)])
+        line = jnp.stack([t.p1x, t.p1y, t.p2x, t.p2y, t.exists.astype(dt)])
+        return new, (arc, line)
+
+    cols = (cx, cy, r, sign, oid)
+    first = tuple(col[:-1] for col in cols)
+    second = tuple(col[1:] for col in cols)
+    real = jnp.arange(cx.shape[0] - 1)[:, None] < (count - 1)[None]
+    batch = perm.shape[0]
+    sx = jnp.broadcast_to(sa.start[0], (batch,)).astype(dt)
+    sy = jnp.broadcast_to(sa.start[1], (batch,)).astype(dt)
+    init = (sx, sy, jnp.zeros((batch,), dt), jnp.zeros((batch,), jnp.int32))
+    (ax, ay, length, viol), (arcs, lines) = jax.lax.scan(leg, init, (first, second, real))
+
+    # The goal arc: on the last circle, from the arrival point to the goal point.
+    last = count - 1
+    goal_c = tuple(jnp.take_along_axis(col, last[None], axis=0)[0] for col in cols)
+    gx = jnp.broadcast_to(sa.goal[0], (batch,)).astype(dt)
+    gy = jnp.broadcast_to(sa.goal[1], (batch,)).astype(dt)
+    gswp = g.sweep(ax - goal_c[0], ay - goal_c[1], gx - goal_c[0], gy - goal_c[1], goal_c[3],
+                   tol.angle)
+    viol = viol + arc_violations(goal_c, (ax, ay), (gx, gy), gswp)
+    length = length + goal_c[2] * gswp
+
+    # Per-slot arcs: slot s < count - 1 from the scan, slot count - 1 the goal arc.
+    slots = jnp.arange(cx.shape[0])[:, None]
+    goal_arc = jnp.stack([ax, ay, gx, gy, gswp])  # (5, B)
+    pad = jnp.zeros((1,) + arcs.shape[1:], dt)
+    arcs = jnp.concatenate([arcs, pad])  # (S, 5, B)
+    arcs = jnp.where((slots == last[None])[:, None, :], goal_arc[None], arcs)
+    return Decoded(
+        length=length,
+        violations=viol,
+        count=count,
+        circles=jnp.stack([cx, cy, r, sign], axis=-1).transpose(1, 0, 2),
+        obstacle=oid.T,
+        arcs=arcs.transpose(2, 0, 1),
+        lines=lines.transpose(2, 0, 1),
+    )

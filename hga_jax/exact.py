@@ -1,0 +1,329 @@
+"""The exact optimum of the path model: the shortest walk in the tangent graph.
+
+Oriented circles: the two start circles (left ``-1`` and right ``+1``, radius rho),
+the two goal circles, and every obstacle's model circle clockwise (``+1``) and
+counter-clockwise (``-1``). Nodes are points on an oriented circle: the start point
+on each start circle, the goal point on each goal circle, and both touch points of
+every feasible directed tangent. Edges (MODEL.md, "The optimum of the model"):
+
+- tangent: the directed tangent segment from a source circle (start or obstacle) to a
+  target circle (obstacle or goal); never between an obstacle and itself; a missing
+  tangent is no edge;
+- arc: along each oriented circle between consecutive nodes in the circle's direction
+  (on a start circle from the start point on, on a goal circle ending at the goal
+  point); two nodes within the angle tolerance also get a zero-length reverse edge,
+  since the decoder counts a sweep within it of 2*pi as 0;
+- coincident start and goal circles: the arc from the start point to the goal point.
+
+Each piece is judged by the decoder's functions (:mod:`hga_jax.geometry`, float64
+tolerances): segments against every obstacle, arcs against every obstacle but their
+own circle (``"full"`` mode only), the field box in both modes. So a walk touching
+each obstacle at most once is feasible iff the chromosome listing its circles decodes
+without violation, with the same length. Search: A* bounded by the straight-line
+distance to the goal point. A walk touching one obstacle twice has no chromosome; a
+label-setting search with the visited obstacles in its state then gives the best
+chromosome-expressible path. Coincident circles other than a start and a goal circle
+are not joined. Units: metres and radians.
+"""
+from __future__ import annotations
+
+import heapq
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from . import geometry as g
+from .path import Path, chromosome, evaluate_path
+from .scenario import Scenario
+
+TOL = g.tolerances(np.float64)
+MAX_LABELS = 300_000  # label-setting search budget (popped labels)
+
+
+@dataclass
+class ExactResult:
+    """The model's optimum for one scenario and collision mode.
+
+    length: the optimum (m); when expressible, the decoder's float64 length of the
+      optimal chromosome (equal to ``walk_length`` to 1e-9), else ``walk_length``;
+      ``math.inf`` when no feasible path exists.
+    walk_length: the shortest walk in the tangent graph (m). seconds: solve time (s).
+    upper, lower: the optimal chromosome (MODEL.md), None when not expressible.
+    touched: ``(obstacle 0-based, label)`` along the optimal walk, in travel order.
+    expressible: False when the optimal walk touches one obstacle twice; then
+      ``best_expressible`` is the best chromosome-expressible feasible path (None if none).
+    path: ``evaluate_path`` of the optimal chromosome (None when not expressible; then
+      ``best_expressible`` is that path). segments: MODEL.md segments of the optimal walk.
+    Infeasible scenes: ``feasible`` False, ``length`` inf, ``expressible`` True, no paths.
+    """
+
+    length: float
+    feasible: bool
+    collision: str
+    walk_length: float
+    expressible: bool
+    upper: list[int] | None
+    lower: list[int] | None
+    touched: list[tuple[int, int]]
+    path: Path | None
+    best_expressible: Path | None
+    segments: list[dict[str, Any]] = field(default_factory=list)
+    seconds: float = 0.0
+    message: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (length is null when infeasible)."""
+        best = self.best_expressible
+        return {
+            "length": self.length if self.feasible else None,
+            "feasible": self.feasible, "touched": [list(t) for t in self.touched],
+            "upper": self.upper, "lower": self.lower, "expressible": self.expressible,
+            "walk_length": self.walk_length if self.feasible else None,
+            "best_expressible": None if best is None else best.to_dict(),
+            "seconds": self.seconds, "collision": self.collision, "message": self.message,
+            "segments": self.segments,
+        }
+
+
+class _Graph(NamedTuple):
+    """Nodes (x, y, circle) and edges in CSR order (arc_circle -1 for a tangent)."""
+
+    circles: tuple[np.ndarray, ...]  # x, y, r, sign, obstacle id (-1 start/goal)
+    nx: np.ndarray  # node x (m)
+    ny: np.ndarray  # node y (m)
+    ncirc: np.ndarray  # node's circle
+    indptr: list[int]
+    dst: list[int]
+    w: list[float]
+    enter: list[int]  # obstacle a tangent edge enters, else -1
+    src: np.ndarray
+    arc_circle: np.ndarray
+    sweep: np.ndarray
+
+
+def _circles(sc: Scenario) -> tuple[np.ndarray, ...]:
+    """Oriented circles: 0, 1 start (-1, +1), 2, 3 goal (-1, +1), then obstacle i CW, CCW."""
+    lr, rho, n = np.array([-1.0, 1.0]), float(sc.min_turn_radius), sc.n
+    sx, sy = g.turning_circle(float(sc.start[0]), float(sc.start[1]), float(sc.start[2]), rho, lr)
+    gx, gy = g.turning_circle(float(sc.goal[0]), float(sc.goal[1]), float(sc.goal[2]), rho, lr)
+    cen = np.asarray(sc.centres, np.float64).reshape(n, 2)
+    x = np.concatenate([sx, gx, np.repeat(cen[:, 0], 2)])
+    y = np.concatenate([sy, gy, np.repeat(cen[:, 1], 2)])
+    r = np.concatenate([np.full(4, rho), np.repeat(np.asarray(sc.model_radii, np.float64), 2)])
+    sign = np.concatenate([lr, lr, np.tile([1.0, -1.0], n)])
+    obs = np.concatenate([np.full(4, -1), np.repeat(np.arange(n), 2)])
+    return x, y, r, sign, obs
+
+
+def _arc_ok(circ, c, ax, ay, bx, by, swp, sa, full: bool) -> np.ndarray:
+    """Feasibility of arcs on circles ``c`` from A to B (decoder's arc criteria)."""
+    x, y, r, s, obs = (a[c] for a in circ)
+    qx, qy, qr = sa.centres[:, 0], sa.centres[:, 1], sa.model_radii
+    ok = ~g.arc_leaves_box(x, y, r, ax, ay, bx, by, swp, s, sa.bounds, TOL.length)
+    if full and qx.size:
+        hit = g.arc_hits(x[:, None], y[:, None], r[:, None], ax[:, None], ay[:, None], bx[:, None],
+                         by[:, None], swp[:, None], s[:, None], qx, qy, qr, TOL.length)
+        ok &= ~np.any(hit & (obs[:, None] != np.arange(qx.size)[None]), axis=1)
+    return ok
+
+
+def _tangents(circ, sa, full: bool):
+    """Every directed tangent (source, target) at once, and which are feasible edges."""
+    x, y, r, sg, obs = circ
+    nc = x.size
+    S, T = (a.ravel() for a in np.meshgrid(np.r_[0, 1, 4:nc], np.r_[4:nc, 2, 3], indexing="ij"))
+    keep = (obs[S] != obs[T]) | (obs[S] < 0)  # never an obstacle to itself
+    S, T = S[keep], T[keep]
+    t = g.tangent(x[S], y[S], r[S], sg[S], x[T], y[T], r[T], sg[T], 1.0, 0.0, TOL.eps)
+    dx, dy = x[T] - x[S], y[T] - y[S]
+    coincident = np.sqrt(dx * dx + dy * dy) < TOL.eps
+    ok = t.exists & ~coincident & ~g.segment_leaves_box(
+        t.p1x, t.p1y, t.p2x, t.p2y, sa.bounds, TOL.length)
+    hits = g.segment_hits if full else g.segment_hits_paper
+    ok &= ~np.any(hits(t.p1x[:, None], t.p1y[:, None], t.p2x[:, None], t.p2y[:, None],
+                       sa.centres[:, 0], sa.centres[:, 1], sa.model_radii, TOL.length), axis=1)
+    direct = coincident & t.exists & (S < 2) & (T >= 2) & (T < 4)  # one start-goal circle
+    return S, T, t, ok, direct
+
+
+def _arc_pairs(circ, sa, nx, ny, ncirc) -> tuple[np.ndarray, np.ndarray]:
+    """Consecutive nodes (a, b) of each circle in its direction, wrap-around included.
+
+    A start circle's nodes are ordered by the sweep from the start point (which comes
+    first), a goal circle's by the sweep left to the goal point (which comes last),
+    an obstacle circle's by the sweep from +x. No arc enters a start point or leaves
+    a goal point.
+    """
+    x, y, _, sg, _ = circ
+    nn, nc = nx.size, x.size
+    st, gl = sa.start, sa.goal
+    rx = np.concatenate([st[0] - x[:2], gl[0] - x[2:4], np.ones(nc - 4)])[ncirc]
+    ry = np.concatenate([st[1] - y[:2], gl[1] - y[2:4], np.zeros(nc - 4)])[ncirc]
+    vx, vy, sgn, idx = nx - x[ncirc], ny - y[ncirc], sg[ncirc], np.arange(nn)
+    key = np.where((ncirc == 2) | (ncirc == 3), -g.sweep(vx, vy, rx, ry, sgn, TOL.angle),
+                   g.sweep(rx, ry, vx, vy, sgn, TOL.angle))
+    order = np.lexsort((np.where((idx == 2) | (idx == 3), nn, idx), key, ncirc))
+    co = ncirc[order]
+    first = np.flatnonzero(np.r_[True, co[1:] != co[:-1]])
+    last = np.r_[first[1:] - 1, nn - 1]
+    multi, same = last > first, co[1:] == co[:-1]
+    a = np.concatenate([order[:-1][same], order[last[multi]]])
+    b = np.concatenate([order[1:][same], order[first[multi]]])
+    legal = (b > 1) & ((a < 2) | (a > 3))
+    return a[legal], b[legal]
+
+
+def _build(sc: Scenario, collision: str) -> _Graph:
+    """The tangent graph of ``sc`` with every infeasible piece left out."""
+    circ = x, y, r, sg, obs = _circles(sc)
+    full, sa = collision == "full", sc.arrays(np.float64)
+    S, T, t, ok, direct = _tangents(circ, sa, full)
+    e = int(ok.sum())
+    nx = np.concatenate([[sa.start[0]] * 2, [sa.goal[0]] * 2, t.p1x[ok], t.p2x[ok]])
+    ny = np.concatenate([[sa.start[1]] * 2, [sa.goal[1]] * 2, t.p1y[ok], t.p2y[ok]])
+    ncirc = np.concatenate([np.arange(4), S[ok], T[ok]])
+    a, b = _arc_pairs(circ, sa, nx, ny, ncirc)
+    ac = np.concatenate([ncirc[a], T[direct]])  # arcs, then start point -> goal point
+    a, b = np.concatenate([a, S[direct]]), np.concatenate([b, T[direct]])
+    cx, cy = x[ac], y[ac]
+    swp = g.sweep(nx[a] - cx, ny[a] - cy, nx[b] - cx, ny[b] - cy, sg[ac], TOL.angle)
+    aok = _arc_ok(circ, ac, nx[a], ny[a], nx[b], ny[b], swp, sa, full)
+    a, b, ac, swp = a[aok], b[aok], ac[aok], swp[aok]
+    tie = (swp < TOL.angle) & (a > 3) & (b > 3)  # zero reverse edge b -> a
+    nt, tan = int(tie.sum()), np.arange(e) + 4
+    es = np.concatenate([tan, a, b[tie]])
+    ed = np.concatenate([tan + e, b, a[tie]])
+    ew = np.concatenate([t.length[ok], r[ac] * swp, np.zeros(nt)])
+    earc = np.concatenate([np.full(e, -1), ac, ac[tie]])
+    eswp = np.concatenate([np.zeros(e), swp, np.zeros(nt)])
+    eent = np.concatenate([obs[T[ok]], np.full(a.size + nt, -1)])
+    srt = np.argsort(es, kind="stable")
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
+    return _Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
+                  eent[srt].tolist(), es[srt], earc[srt], eswp[srt])
+
+
+def _search(gr: _Graph, h: list[float], distinct: bool) -> tuple[float, list[int], bool]:
+    """A* from the start nodes (0, 1) to a goal node (2, 3); edges of the best walk.
+
+    With ``distinct`` the state carries the set of entered obstacles (a bit mask)
+    and no obstacle is entered twice (labels dominated by a settled subset are
+    dropped). Returns ``(length, edges, complete)``; ``(inf, [], complete)`` when no walk
+    exists (``complete``) or the label budget ran out (not ``complete``).
+    """
+    indptr, dst, w, enter = gr.indptr, gr.dst, gr.w, gr.enter
+    heap = [(h[s], 0.0, s, 0, -1) for s in (0, 1)]
+    labels: list[tuple[int, int]] = []  # (edge into this label, parent label)
+    best: dict[tuple[int, int], float] = {(0, 0): 0.0, (1, 0): 0.0}
+    settled: dict[int, list[int]] = {}
+    pops = 0
+    while heap and pops < MAX_LABELS:
+        _, gc, u, m, lab = heapq.heappop(heap)
+        if gc > best[(u, m)]:
+            continue
+        if distinct:
+            done = settled.setdefault(u, [])
+            if any(s & ~m == 0 for s in done):
+                continue
+            done.append(m)
+            pops += 1
+        if 2 <= u <= 3:
+            edges = []
+            while lab >= 0:
+                edges.append(labels[lab][0])
+                lab = labels[lab][1]
+            return gc, edges[::-1], True
+        for k in range(indptr[u], indptr[u + 1]):
+            v, j, m2 = dst[k], enter[k], m
+            if distinct and j >= 0:
+                if m >> j & 1:
+                    continue
+                m2 = m | 1 << j
+            nd = gc + w[k]
+            if nd < best.get((v, m2), math.inf):
+                best[(v, m2)] = nd
+                labels.append((k, lab))
+                heapq.heappush(heap, (nd + h[v], nd, v, m2, len(labels) - 1))
+    return math.inf, [], not heap
+
+
+def _walk(gr: _Graph, edges: list[int]) -> tuple[list[int], list[dict[str, Any]]]:
+    """Oriented circles visited (in order) and MODEL.md segments of a walk."""
+    x, y, r, sg, _ = gr.circles
+    circs, segs, arc_on = [int(gr.ncirc[gr.src[edges[0]]])] if edges else [], [], -1
+    for k in edges:
+        u, v, c = int(gr.src[k]), gr.dst[k], int(gr.arc_circle[k])
+        if c < 0:
+            arc_on = -1
+            if gr.w[k] > 0.0:
+                segs.append({"type": "line", "start": [float(gr.nx[u]), float(gr.ny[u])],
+                             "end": [float(gr.nx[v]), float(gr.ny[v])]})
+        elif gr.sweep[k] > 0.0:
+            if arc_on != c:
+                segs.append({"type": "arc", "center": [float(x[c]), float(y[c])],
+                             "radius": float(r[c]), "sweep": 0.0, "start_angle": float(
+                                 np.arctan2(gr.ny[u] - y[c], gr.nx[u] - x[c]))})
+            segs[-1]["sweep"] -= float(sg[c] * gr.sweep[k])
+            arc_on = c
+        if int(gr.ncirc[v]) != circs[-1]:
+            circs.append(int(gr.ncirc[v]))
+    return circs, segs
+
+
+def _chromosome(n: int, circs: list[int], circles) -> tuple[list[int], list[int]]:
+    """Internal (perm, labels) of a walk through distinct obstacles."""
+    sg, obs = circles[3], circles[4]
+    seen = [int(obs[c]) for c in circs[1:-1]]
+    perm = seen + [i for i in range(n) if i not in set(seen)]
+    labels = [int(sg[circs[0]])] + [int(sg[c]) for c in circs[1:-1]]
+    return perm, labels + [0] * (n - len(seen)) + [int(sg[circs[-1]])]
+
+
+def _disagreement(path: Path | None, walk_length: float) -> str:
+    """A note when the decoder's float64 figures differ from the graph's (a model mismatch)."""
+    if path is None or (not path.violations
+                        and abs(path.length - walk_length) <= 1e-9 * max(1.0, walk_length)):
+        return ""
+    return (f"; decoder disagrees: length {path.length!r} vs walk {walk_length!r}, "
+            f"{path.violations} violations")
+
+
+def solve(scenario: Scenario, collision: str = "full") -> ExactResult:
+    """The exact optimum of ``scenario`` under ``collision`` ("full" or "paper")."""
+    if collision not in ("full", "paper"):
+        raise ValueError(f"collision: must be 'full' or 'paper', got {collision!r}")
+    t0 = time.perf_counter()
+    gr = _build(scenario, collision)
+    gx, gy = float(scenario.goal[0]), float(scenario.goal[1])
+    h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
+    walk_length, edges, _ = _search(gr, h, distinct=False)
+    if not edges:
+        return ExactResult(math.inf, False, collision, math.inf, True, None, None, [], None, None,
+                           seconds=time.perf_counter() - t0, message="no feasible path")
+    circs, segs = _walk(gr, edges)
+    obs, sg = gr.circles[4], gr.circles[3]
+    touched = [(int(obs[c]), int(sg[c])) for c in circs[1:-1]]
+    expressible = len({o for o, _ in touched}) == len(touched)
+    upper = lower = path = best = None
+    length, message = walk_length, "optimal"
+    if not expressible:
+        best_length, best_edges, complete = _search(gr, h, distinct=True)
+        if best_edges:
+            best = evaluate_path(scenario, *_chromosome(scenario.n, _walk(gr, best_edges)[0],
+                                                        gr.circles), collision)
+        message = ("optimal walk touches an obstacle twice: no chromosome expresses it; "
+                   + ("best_expressible is the best chromosome path" if best else
+                      "no chromosome expresses a feasible path" if complete else
+                      f"label budget ({MAX_LABELS}) ran out: best_expressible unknown"))
+        message += _disagreement(best, best_length)
+    else:
+        perm, labels = _chromosome(scenario.n, circs, gr.circles)
+        path = best = evaluate_path(scenario, perm, labels, collision)
+        upper, lower = chromosome(perm, labels)
+        segs, length = path.segments, path.length
+        message += _disagreement(path, walk_length)
+    return ExactResult(length, True, collision, walk_length, expressible, upper, lower, touched,
+                       path, best, segs, time.perf_counter() - t0, message)

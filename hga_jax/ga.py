@@ -1,0 +1,181 @@
+"""The hierarchical GA loop: one compiled generation, a scanned run, vmapped runs.
+
+Paper section 3: select, crossover and mutate the upper module (permutation),
+crossover and mutate the lower module (labels), evaluate with the penalty.
+Generation 0 is the random initial population; generations 1..G follow, so a
+run evaluates ``population * (G + 1)`` chromosomes.
+
+Everything here is a pure function of arrays, a PRNG key and the static
+:class:`~hga_jax.settings.GASettings`. Run ``k`` of seed ``s`` uses the key
+``fold_in(key(s), k)`` and nothing else, so it gives the same result alone or
+inside a batch of any size.
+"""
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from . import label_ops, perm_ops, selection
+from .fitness import evaluate
+from .reductions import tree_sum
+from .scenario import ScenarioArrays
+from .settings import GASettings
+
+
+class Population(NamedTuple):
+    """A population of P chromosomes with their evaluation."""
+
+    perm: Any  # (P, n) int32
+    labels: Any  # (P, n + 2) int32
+    fitness: Any  # (P,)
+    length: Any  # (P,) metres, without penalty
+    violations: Any  # (P,) int32
+
+
+class Best(NamedTuple):
+    """Best-so-far individual of a run and the generation it was first reached."""
+
+    perm: Any  # (n,)
+    labels: Any  # (n + 2,)
+    fitness: Any  # ()
+    length: Any  # () metres
+    violations: Any  # ()
+    generation: Any  # () int32
+
+
+class GAState(NamedTuple):
+    pop: Population
+    best: Best
+
+
+class Record(NamedTuple):
+    """What a run records per generation."""
+
+    best_fitness: Any  # best fitness in this generation's population
+    mean_fitness: Any  # mean fitness of this generation's population
+    best_so_far_fitness: Any
+    best_so_far_length: Any  # metres, without penalty
+    best_so_far_violations: Any
+
+
+def run_key(seed: int, k):
+    """The PRNG key of run ``k`` of ``seed`` (threefry, the JAX default)."""
+    return jax.random.fold_in(jax.random.key(seed), k)
+
+
+def _evaluated(sa, perm, labels, settings) -> Population:
+    e = evaluate(sa, perm, labels, settings.collision)
+    return Population(perm, labels, e.fitness, e.length, e.violations)
+
+
+def _update_best(best: Best, pop: Population, generation) -> Best:
+    i = jnp.argmax(pop.fitness)
+    better = pop.fitness[i] > best.fitness
+    cand = Best(pop.perm[i], pop.labels[i], pop.fitness[i], pop.length[i], pop.violations[i],
+                jnp.asarray(generation, jnp.int32))
+    return jax.tree.map(lambda new, old: jnp.where(better, new, old), cand, best)
+
+
+def _record(pop: Population, best: Best) -> Record:
+    mean = tree_sum(pop.fitness) / pop.fitness.shape[-1]
+    return Record(jnp.max(pop.fitness), mean, best.fitness, best.length, best.violations)
+
+
+def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
+    """Random initial population (generation 0), evaluated."""
+    n, p = sa.centres.shape[0], settings.population
+    kp, kl = jax.random.split(key)
+    if n:
+        perm = jax.vmap(perm_ops.random_permutation, (0, None))(jax.random.split(kp, p), n)
+    else:
+        perm = jnp.zeros((p, 0), jnp.int32)
+    labels = jax.vmap(label_ops.random_labels, (0, None))(jax.random.split(kl, p), n + 2)
+    pop = _evaluated(sa, perm, labels, settings)
+    worst = Best(perm[0], labels[0], jnp.asarray(-jnp.inf, pop.fitness.dtype), pop.length[0],
+                 pop.violations[0], jnp.asarray(0, jnp.int32))
+    return GAState(pop, _update_best(worst, pop, 0))
+
+
+def _pairwise(key, op, prob, a, b):
+    """Apply the pair operator ``op`` to each pair (a[i], b[i]) with probability ``prob``."""
+    kd, ko = jax.random.split(key)
+    ca, cb = jax.vmap(op)(jax.random.split(ko, a.shape[0]), a, b)
+    do = jax.random.bernoulli(kd, prob, (a.shape[0], 1))
+    return jnp.where(do, ca, a), jnp.where(do, cb, b)
+
+
+def _crossover(key, op, prob, x):
+    """Pair consecutive rows (0,1), (2,3), ...; an odd last row passes unchanged."""
+    half = x.shape[0] // 2
+    a, b = _pairwise(key, op, prob, x[0:2 * half:2], x[1:2 * half:2])
+    paired = jnp.stack([a, b], axis=1).reshape((2 * half,) + x.shape[1:])
+    return jnp.concatenate([paired, x[2 * half:]])
+
+
+def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
+    """One generation: select, vary both modules, evaluate, keep elites, track the best."""
+    ks, kcu, kmu, kcl, kml = jax.random.split(key, 5)
+    old = state.pop
+    pick = selection.SELECTIONS[settings.selection]
+    idx = pick(ks, old.fitness, settings.population, settings.tournament_size)
+    perm, labels = old.perm[idx], old.labels[idx]
+
+    n = perm.shape[1]
+    if n >= 2:
+        perm = _crossover(kcu, perm_ops.CROSSOVERS[settings.perm_crossover],
+                          settings.pc_upper, perm)
+        kd, ko = jax.random.split(kmu)
+        mutate = jax.vmap(perm_ops.MUTATIONS[settings.perm_mutation])
+        mutated = mutate(jax.random.split(ko, perm.shape[0]), perm)
+        do = jax.random.bernoulli(kd, settings.pm_upper, (perm.shape[0], 1))
+        perm = jnp.where(do, mutated, perm)
+    labels = _crossover(kcl, label_ops.CROSSOVERS[settings.label_crossover],
+                        settings.pc_lower, labels)
+    labels = jax.vmap(label_ops.redraw, (0, 0, None))(
+        jax.random.split(kml, labels.shape[0]), labels, settings.pm_lower)
+
+    pop = _evaluated(sa, perm, labels, settings)
+    if settings.elites:
+        e = settings.elites
+        elite = jnp.argsort(-old.fitness)[:e]
+        worst = jnp.argsort(pop.fitness)[:e]
+        pop = jax.tree.map(lambda new, prev: new.at[worst].set(prev[elite]), pop, old)
+    best = _update_best(state.best, pop, generation)
+    return GAState(pop, best), _record(pop, best)
+
+
+def run(key, sa: ScenarioArrays, settings: GASettings):
+    """One whole run: ``(final GAState, Record of arrays shaped (G + 1,))``.
+
+    Random bits are drawn with ``jax_threefry_partitionable`` off, whatever the
+    caller's setting (the stream is part of what a seed means; it also compiles
+    faster on the CPU).
+    """
+    with jax.threefry_partitionable(False):
+        return _run(key, sa, settings)
+
+
+def _run(key, sa: ScenarioArrays, settings: GASettings):
+    k0, kg = jax.random.split(key)
+    state = init(k0, sa, settings)
+    first = _record(state.pop, state.best)
+
+    def body(st, xs):
+        k, gen = xs
+        return step(k, st, sa, settings, gen)
+
+    gens = jnp.arange(1, settings.generations + 1, dtype=jnp.int32)
+    state, recs = jax.lax.scan(body, state, (jax.random.split(kg, settings.generations), gens))
+    history = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), first, recs)
+    return state, history
+
+
+def run_batch(seed, ks, sa: ScenarioArrays, settings: GASettings):
+    """Runs ``ks`` (int array) of ``seed``, vmapped: only ``best`` and the history are kept."""
+    def one(k):
+        state, history = run(run_key(seed, k), sa, settings)
+        return state.best, history
+
+    return jax.vmap(one)(ks)

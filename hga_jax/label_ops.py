@@ -1,0 +1,102 @@
+"""Genetic operators on the lower module: turning-direction labels.
+
+Conventions:
+
+- Labels are a 1-D ``int32`` array of length ``L = n + 2``: position 0 is the
+  start circle, ``L - 1`` the goal circle, the others belong to the obstacles
+  at the same positions of the upper module (MODEL.md).
+- Allowed values: ``+1`` clockwise, ``-1`` counter-clockwise, ``0`` obstacle
+  not touched. The two end positions take ``{-1, +1}``; the others
+  ``{-1, 0, +1}``.
+- As in :mod:`hga_jax.perm_ops`, every operator works on ONE individual or
+  ONE pair, is split into a random ``*_draw`` and a deterministic ``*_apply``
+  step, has shapes that depend on ``L`` only, and jits and vmaps.
+- Cut points: ``0 <= lo < hi <= L``, uniform over all such pairs; the segment
+  is the half-open position range ``[lo, hi)``.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import jax
+import jax.numpy as jnp
+from jax import Array
+
+from .perm_ops import cut_draw, uniform_int
+
+LabelCrossover = Callable[[Array, Array, Array], tuple[Array, Array]]
+
+
+def _is_end(L: int) -> Array:
+    """True at the start and goal positions (0 and ``L - 1``)."""
+    pos = jnp.arange(L, dtype=jnp.int32)
+    return (pos == 0) | (pos == L - 1)
+
+
+def random_labels(key: Array, L: int) -> Array:
+    """Labels uniform over each position's allowed set (``int32``, shape ``(L,)``).
+
+    One draw ``r`` uniform in ``0..5`` per position: ends take
+    ``2 * (r % 2) - 1``, the others ``r % 3 - 1``; both are uniform.
+    """
+    r = uniform_int(key, (L,), 0, 6)
+    return jnp.where(_is_end(L), 2 * (r % 2) - 1, r % 3 - 1)
+
+
+# --- Two-point crossover -------------------------------------------------------
+
+def two_point_draw(key: Array, L: int) -> tuple[Array, Array]:
+    """Segment ``[lo, hi)``, uniform over ``0 <= lo < hi <= L``."""
+    return cut_draw(key, L)
+
+
+def two_point_apply(a: Array, b: Array, lo: Array, hi: Array) -> tuple[Array, Array]:
+    """Two-point crossover: the children swap the segment ``[lo, hi)``.
+
+    ``c1`` is ``a`` with ``b``'s segment, ``c2`` is ``b`` with ``a``'s. Labels
+    stay at their positions, so every allowed set is respected.
+    """
+    pos = jnp.arange(a.shape[-1], dtype=jnp.int32)
+    seg = (pos >= lo) & (pos < hi)
+    return jnp.where(seg, b, a), jnp.where(seg, a, b)
+
+
+def two_point(key: Array, a: Array, b: Array) -> tuple[Array, Array]:
+    """Two-point crossover with a random segment (see :func:`two_point_apply`)."""
+    return two_point_apply(a, b, *two_point_draw(key, a.shape[-1]))
+
+
+# --- Per-gene redraw mutation ----------------------------------------------------
+
+def redraw_draw(key: Array, L: int, pm: float | Array) -> tuple[Array, Array]:
+    """``(mask, choice)``: ``mask[k]`` True with probability ``pm``, independently
+    per gene; ``choice[k]`` a fair random bit (which other value a middle gene
+    takes)."""
+    bits = jax.random.bits(key, (L,), dtype=jnp.uint32)
+    # The top 24 bits give u uniform on a grid in [0, 1) (exact in float32, so
+    # pm = 1 always fires and pm = 0 never); the lowest bit is the choice.
+    u = (bits >> 8).astype(jnp.float32) * jnp.float32(2.0**-24)
+    return u < pm, (bits & 1) == 1
+
+
+def redraw_apply(labels: Array, mask: Array, choice: Array) -> Array:
+    """Change every masked gene to a DIFFERENT value of its allowed set.
+
+    Ends flip sign; a middle gene ``v`` moves 1 or 2 steps (``1 + choice``)
+    along the cycle ``-1 -> 0 -> +1 -> -1``, i.e. to one of its two other
+    values. Unmasked genes are kept.
+    """
+    shift = 1 + choice.astype(labels.dtype)
+    middle = (labels + 1 + shift) % 3 - 1
+    new = jnp.where(_is_end(labels.shape[-1]), -labels, middle)
+    return jnp.where(mask, new, labels)
+
+
+def redraw(key: Array, labels: Array, pm: float | Array) -> Array:
+    """Per-gene mutation: each gene, with probability ``pm``, always changes its
+    value (ends flip; middle genes take one of their two other values,
+    uniformly)."""
+    return redraw_apply(labels, *redraw_draw(key, labels.shape[-1], pm))
+
+
+CROSSOVERS: dict[str, LabelCrossover] = {"two_point": two_point}

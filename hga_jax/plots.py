@@ -1,0 +1,184 @@
+"""Figures: a planned path in its scene, and GA convergence over generations.
+
+Host code on matplotlib's object API (``matplotlib.figure.Figure``, no pyplot),
+so it runs headless and the figures display in notebooks. Artists carry a
+``gid`` ("field", "obstacle", "model_circle", "turning_circle", "start",
+"goal", "arc", "line", "touched", "best_median", "mean_median", "optimum",
+...) so callers and tests can find them.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Circle, Rectangle
+
+from .scenario import Scenario
+
+C_ARC, C_LINE, C_START, C_GOAL, C_TOUCH = "tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"
+PTS_PER_RAD = 60  # arc sampling density
+
+
+def arc_points(center: Sequence[float], radius: float, start_angle: float, sweep: float) -> np.ndarray:
+    """(m, 2) points along an arc from ``start_angle`` to ``start_angle + sweep``."""
+    m = max(2, int(np.ceil(abs(sweep) * PTS_PER_RAD)) + 1)
+    t = start_angle + sweep * np.linspace(0.0, 1.0, m)
+    return np.asarray(center, float) + radius * np.stack([np.cos(t), np.sin(t)], axis=1)
+
+
+def _pose(ax: Axes, pose: Sequence[float], rho: float, colour: str, name: str, span: float) -> np.ndarray:
+    """Draw a pose arrow and its two turning circles; return the circles' bbox corners."""
+    x, y, th = (float(v) for v in pose)
+    ax.plot([x], [y], "o", color=colour, ms=5, zorder=6, gid=name, label=name)
+    tip = (x + 0.07 * span * np.cos(th), y + 0.07 * span * np.sin(th))
+    ax.annotate("", xy=tip, xytext=(x, y), zorder=6,
+                arrowprops=dict(arrowstyle="-|>", color=colour, lw=1.8, mutation_scale=14))
+    ends = []
+    for s in (-1.0, 1.0):  # left/CCW, right/CW centres (MODEL.md)
+        c = (x - s * rho * np.sin(th), y + s * rho * np.cos(th))
+        ax.add_patch(Circle(c, rho, fill=False, ls=":", lw=0.8, ec=colour, gid="turning_circle"))
+        ends += [(c[0] - rho, c[1] - rho), (c[0] + rho, c[1] + rho)]
+    return np.asarray(ends)
+
+
+def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
+              touched: Iterable[tuple[int, int]] = (), title: str | None = None,
+              ax: Axes | None = None) -> Figure:
+    """Draw the scene (field, obstacles, start and goal poses) and a path.
+
+    ``segments``: travel-ordered arc/line dicts of the result-file format
+    (MODEL.md); may be empty. ``touched``: ``(obstacle_index, label)`` pairs,
+    0-based index, label ``+1`` CW / ``-1`` CCW, highlighted on the picture.
+    """
+    if ax is None:
+        fig = Figure(figsize=(8.0, 5.6), layout="constrained")
+        ax = fig.add_subplot()
+    else:
+        fig = ax.figure
+    r, rho, f = scenario.robot_radius, scenario.min_turn_radius, scenario.field
+    centres = np.asarray(scenario.centres, float).reshape(-1, 2)
+    radii, model = np.asarray(scenario.radii, float), np.asarray(scenario.model_radii, float)
+    pts = [np.asarray([scenario.start[:2], scenario.goal[:2]], float)]
+    if f is not None:
+        ax.add_patch(Rectangle((f.xmin, f.ymin), f.xmax - f.xmin, f.ymax - f.ymin,
+                               fill=False, ec="black", lw=1.2, gid="field"))
+        if f.keep_inside:
+            ax.add_patch(Rectangle((f.xmin + r, f.ymin + r), f.xmax - f.xmin - 2 * r,
+                                   f.ymax - f.ymin - 2 * r, fill=False, ec="0.4", lw=0.8,
+                                   ls="--", gid="field_inner"))
+        pts.append(np.asarray([[f.xmin, f.ymin], [f.xmax, f.ymax]]))
+    touch = {int(i): int(s) for i, s in touched}
+    for i, (c, ri, Ri) in enumerate(zip(centres, radii, model)):
+        hit = i in touch
+        ax.add_patch(Circle(c, ri, fc="0.86", ec="0.55", lw=0.8, zorder=2, gid="obstacle"))
+        ax.add_patch(Circle(c, Ri, fill=False, ls="-" if hit else "--", lw=2.0 if hit else 0.8,
+                            ec=C_TOUCH if hit else "0.45", zorder=3, gid="model_circle"))
+        ax.text(c[0], c[1], str(i + 1), ha="center", va="center", fontsize=8, zorder=4)
+        if hit:
+            ax.text(c[0] + 0.72 * Ri, c[1] + 0.72 * Ri, "CW" if touch[i] > 0 else "CCW",
+                    color=C_TOUCH, fontsize=7, fontweight="bold", ha="left", va="bottom",
+                    zorder=7, gid="touched")
+        pts.append(np.asarray([c - Ri, c + Ri]))
+    span0 = np.ptp(np.concatenate(pts), axis=0).max() if len(pts) > 1 else 1.0
+    span = float(span0) if span0 > 0 else 1.0
+    pts.append(_pose(ax, scenario.start, rho, C_START, "start", span))
+    pts.append(_pose(ax, scenario.goal, rho, C_GOAL, "goal", span))
+    kinds_seen: set[str] = set()
+    for seg in segments:
+        if seg["type"] == "arc":
+            xy = arc_points(seg["center"], float(seg["radius"]),
+                            float(seg["start_angle"]), float(seg["sweep"]))
+            style = dict(color=C_ARC, lw=2.6, solid_capstyle="round")
+        elif seg["type"] == "line":
+            xy = np.asarray([seg["start"], seg["end"]], float)
+            style = dict(color=C_LINE, lw=2.0)
+        else:
+            raise ValueError(f"unknown segment type {seg['type']!r}")
+        kind = seg["type"]
+        label = ("path arc" if kind == "arc" else "path line") if kind not in kinds_seen else "_nolegend_"
+        kinds_seen.add(kind)
+        ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind, label=label, **style)
+        pts.append(xy)
+    allp = np.concatenate(pts)
+    lo, hi = allp.min(axis=0), allp.max(axis=0)
+    pad = 0.03 * float(max(hi - lo))
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(scenario.name if title is None else title)
+    handles = [Line2D([], [], marker="o", ls="", mfc="0.86", mec="0.55", ms=9, label="obstacle (robot)"),
+               Line2D([], [], ls="--", color="0.45", lw=0.8, label="model circle"),
+               Line2D([], [], ls=":", color="0.3", lw=0.8, label=r"turning circles ($\rho$)")]
+    if touch:
+        handles.append(Line2D([], [], color=C_TOUCH, lw=2.0, label="touched (CW/CCW)"))
+    h, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=h + handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+              fontsize=8, frameon=False)
+    return fig
+
+
+def _band(ax: Axes, gens: np.ndarray, data: np.ndarray, colour: str, label: str, gid: str) -> None:
+    """Median over runs (line) and interquartile band of a (G+1, runs) array."""
+    q1, med, q3 = np.percentile(data, [25, 50, 75], axis=1)
+    ax.fill_between(gens, q1, q3, color=colour, alpha=0.22, lw=0, gid=gid + "_band")
+    ax.plot(gens, med, color=colour, lw=1.8, label=label, gid=gid + "_median")
+
+
+def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
+                     optimum_fitness: float | None = None, best_length: np.ndarray | None = None,
+                     optimum_length: float | None = None, title: str | None = None) -> Figure:
+    """Fitness over generation (paper Fig. 5) from arrays shaped (G+1, runs).
+
+    Row ``g`` is generation ``g`` (0 = initial population). Draws the median
+    over runs and the interquartile band of the best and the mean fitness, the
+    optimum's fitness as a line when given, and, when ``best_length`` is given,
+    a second panel of the best-so-far path length against the optimum length.
+    """
+    best = np.asarray(best_fitness, float).reshape(len(best_fitness), -1)
+    mean = np.asarray(mean_fitness, float).reshape(len(mean_fitness), -1)
+    runs, gens = best.shape[1], np.arange(best.shape[0])
+    what = "median, IQR over %d runs" % runs if runs > 1 else "1 run"
+    two = best_length is not None
+    fig = Figure(figsize=(10.0 if two else 6.0, 4.0), layout="constrained")
+    axes = fig.subplots(1, 2 if two else 1, squeeze=False)[0]
+    ax = axes[0]
+    _band(ax, gens, best, C_ARC, f"best fitness ({what})", "best")
+    _band(ax, gens, mean, C_LINE, f"mean fitness ({what})", "mean")
+    if optimum_fitness is not None:
+        ax.axhline(float(optimum_fitness), color="black", ls="--", lw=1.0,
+                   label="optimum", gid="optimum")
+    ax.set_xlabel("generation")
+    ax.set_ylabel("fitness  10000 / (Dist$_m$ + 1)")
+    ax.set_xlim(gens[0], max(gens[-1], 1))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    if two:
+        ax2 = axes[1]
+        length = np.asarray(best_length, float).reshape(len(best_length), -1)
+        _band(ax2, gens, length, C_ARC, f"best length ({what})", "length")
+        if optimum_length is not None:
+            ax2.axhline(float(optimum_length), color="black", ls="--", lw=1.0,
+                        label="optimum length", gid="optimum_length")
+        ax2.set_xlabel("generation")
+        ax2.set_ylabel("best path length (m)")
+        ax2.set_xlim(gens[0], max(gens[-1], 1))
+        ax2.grid(alpha=0.3)
+        ax2.legend(fontsize=8, loc="upper right")
+    if title is not None:
+        fig.suptitle(title)
+    return fig
+
+
+def save_figure(fig: Figure, path: str | Path, dpi: int = 140) -> Path:
+    """Write ``fig`` as PNG to ``path`` (parents created); return the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=dpi, format="png")
+    return path

@@ -1,0 +1,216 @@
+"""Results of many runs: statistics, the gap to the optimum, JSON/CSV files.
+
+Lengths are metres and come from the float64 re-evaluation. ``gap = length /
+optimum - 1`` for a feasible run; a run *hits* the optimum when its gap is below
+``HIT_GAP``. Generations count from 0 (the initial population).
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import platform
+import tempfile
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .path import Path, chromosome
+from .scenario import Scenario
+from .settings import GASettings
+
+HIT_GAP = 1e-6
+NEAR_GAP = 0.01
+
+
+@dataclass
+class RunsResult:
+    """Everything a batch of runs produced (arrays have one row per run)."""
+
+    scenario: Scenario
+    settings: GASettings
+    seed: int
+    run_ids: np.ndarray  # (R,)
+    perm: np.ndarray  # (R, n) best chromosome of each run
+    labels: np.ndarray  # (R, n + 2)
+    length: np.ndarray  # (R,) float64 metres
+    violations: np.ndarray  # (R,)
+    generation: np.ndarray  # (R,) generation its best was first reached
+    history: dict[str, np.ndarray]  # name -> (G + 1, R)
+    best: Path  # overall best path (float64)
+    best_run: int
+    optimum: Any = None  # exact.ExactResult or None
+    compile_s: float = 0.0
+    search_s: float = 0.0
+    finish_s: float = 0.0
+    evaluations: int = 0
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def feasible(self) -> np.ndarray:
+        return self.violations == 0
+
+    @property
+    def optimum_length(self) -> float | None:
+        opt = self.optimum
+        return float(opt.length) if opt is not None and opt.feasible else None
+
+    @property
+    def gap(self) -> np.ndarray:
+        """Per run ``length / optimum - 1`` (inf when infeasible, nan without optimum)."""
+        opt = self.optimum_length
+        if opt is None:
+            return np.full(len(self.length), np.nan)
+        return np.where(self.feasible, self.length / opt - 1.0, np.inf)
+
+    @property
+    def hit(self) -> np.ndarray:
+        return self.gap < HIT_GAP
+
+    def first_generation_within(self, gap: float) -> np.ndarray:
+        """Per run the first generation whose best-so-far is feasible and within ``gap``
+        of the optimum (-1: never). Judged on the search's own lengths with 1e-6 slack."""
+        opt = self.optimum_length
+        if opt is None:
+            return np.full(len(self.length), -1)
+        h = self.history
+        ok = (h["best_so_far_violations"] == 0) & (
+            h["best_so_far_length"] <= opt * (1.0 + gap) * (1.0 + 1e-6))
+        return np.where(ok.any(axis=0), ok.argmax(axis=0), -1)
+
+    @property
+    def generation_hit(self) -> np.ndarray:
+        return np.where(self.hit, self.generation, -1)
+
+    def summary(self) -> dict[str, Any]:
+        """The figures the command line prints and result.json carries."""
+        best_len = self.best.length
+        found = self.feasible & np.isclose(self.length, best_len, rtol=1e-9, atol=0.0)
+        out: dict[str, Any] = {
+            "best_length": best_len,
+            "best_feasible": self.best.feasible,
+            "runs": int(len(self.length)),
+            "feasible_runs": int(self.feasible.sum()),
+            "runs_found_best": int(found.sum()),
+            "median_generation_found_best": _median(self.generation[found]),
+            "compile_s": self.compile_s,
+            "search_s": self.search_s,
+            "evaluations": self.evaluations,
+            "evaluations_per_s": self.evaluations / self.search_s if self.search_s else None,
+        }
+        if self.optimum_length is not None:
+            gap = self.gap[self.feasible]  # infeasible runs are counted, not averaged
+            near = self.first_generation_within(NEAR_GAP)
+            out.update({
+                "optimum_length": self.optimum_length,
+                "hit_rate": float(self.hit.mean()),
+                "infeasible_runs": int((~self.feasible).sum()),
+                "gap_median": _stat(np.median, gap),
+                "gap_mean": _stat(np.mean, gap),
+                "gap_max": _stat(np.max, gap),
+                "shorter_than_optimum": int(np.sum(gap < -HIT_GAP)),
+                "median_generation_within_1pct": _median(near[near >= 0]),
+                "median_generation_hit": _median(self.generation_hit[self.hit]),
+            })
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """result.json (MODEL.md's contract plus run statistics)."""
+        import jax
+
+        near = self.first_generation_within(NEAR_GAP)
+        per_run = []
+        for i, k in enumerate(self.run_ids):
+            upper, lower = chromosome(self.perm[i], self.labels[i])
+            per_run.append({
+                "run": int(k), "length": float(self.length[i]),
+                "feasible": bool(self.feasible[i]), "violations": int(self.violations[i]),
+                "generation": int(self.generation[i]),
+                "gap": float(self.gap[i]), "hit": bool(self.hit[i]),
+                "generation_within_1pct": int(near[i]),
+                "generation_hit": int(self.generation_hit[i]),
+                "upper": upper, "lower": lower,
+            })
+        from . import __version__
+
+        return _finite({
+            "scenario": {"name": self.scenario.name, "source": self.scenario.source,
+                         "obstacles": self.scenario.n},
+            "seed": self.seed,
+            "runs": [int(self.run_ids[0]), int(self.run_ids[-1])],
+            "settings": asdict(self.settings),
+            "versions": {"hga_jax": __version__, "jax": jax.__version__,
+                         "numpy": np.__version__, "python": platform.python_version()},
+            "best": {"run": self.best_run, **self.best.to_dict()},
+            "optimum": self.optimum.to_dict() if self.optimum is not None else None,
+            "summary": self.summary(),
+            "per_run": per_run,
+        })
+
+    def history_rows(self) -> list[dict[str, Any]]:
+        """history.csv rows: per generation, median and quartiles over runs."""
+        h = self.history
+        near = self.first_generation_within(NEAR_GAP)
+        rows = []
+        for g in range(h["best_fitness"].shape[0]):
+            row: dict[str, Any] = {"generation": g}
+            for name in ("best_fitness", "mean_fitness", "best_so_far_fitness",
+                         "best_so_far_length"):
+                q25, q50, q75 = np.percentile(h[name][g], [25, 50, 75])
+                row.update({f"{name}_median": q50, f"{name}_q25": q25, f"{name}_q75": q75})
+            row["feasible_fraction"] = float(np.mean(h["best_so_far_violations"][g] == 0))
+            if self.optimum_length is not None:
+                row["within_1pct_fraction"] = float(np.mean((near >= 0) & (near <= g)))
+                row["hit_fraction"] = float(np.mean(self.hit & (self.generation <= g)))
+            rows.append(row)
+        return rows
+
+
+def _stat(fn, values: np.ndarray) -> float | None:
+    return float(fn(values)) if len(values) else None
+
+
+def _median(values: np.ndarray) -> float | None:
+    return float(np.median(values)) if len(values) else None
+
+
+def _finite(obj: Any) -> Any:
+    """JSON-safe copy: numpy scalars to Python, non-finite floats to None."""
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    return obj
+
+
+def _atomic_write(path: str, write) -> None:
+    """Write through a temporary file in the same folder, then rename: never half a file."""
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=os.path.basename(path))
+    try:
+        with os.fdopen(fd, "w", newline="") as fh:
+            write(fh)
+        os.replace(tmp, path)
+    except BaseException:
+        os.unlink(tmp)
+        raise
+
+
+def write_json(path: str, data: dict[str, Any]) -> None:
+    _atomic_write(path, lambda fh: json.dump(data, fh, indent=1, allow_nan=False))
+
+
+def write_csv(path: str, rows: list[dict[str, Any]]) -> None:
+    def write(fh):
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+    _atomic_write(path, write)

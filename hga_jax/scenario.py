@@ -1,0 +1,99 @@
+"""A planning scenario: robot, start and goal poses, circular obstacles, field.
+
+Units: metres and radians (configs use degrees in keys named ``*_deg``; the
+loader converts). The point robot sees each obstacle as its *model circle* of
+radius ``R_i = max(rho, r_i + r)`` (MODEL.md).
+
+``Scenario`` is host-side (plain floats and numpy arrays, validated by the
+loader in :mod:`hga_jax.config`). ``Scenario.arrays(dtype)`` gives the
+:class:`ScenarioArrays` pytree that device code takes.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Field:
+    """Field rectangle in metres; ``keep_inside`` asks every path point to stay
+    inside the rectangle shrunk by the robot radius."""
+
+    xmin: float
+    xmax: float
+    ymin: float
+    ymax: float
+    keep_inside: bool = False
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A validated scenario. Poses are ``(x, y, heading)`` in metres and radians."""
+
+    name: str
+    robot_radius: float
+    min_turn_radius: float
+    start: tuple[float, float, float]
+    goal: tuple[float, float, float]
+    centres: np.ndarray  # (n, 2) obstacle centres, metres
+    radii: np.ndarray  # (n,) physical obstacle radii, metres
+    field: Field | None = None
+    ga: dict[str, Any] = dataclasses.field(default_factory=dict)  # raw [ga] table, checked by settings
+    source: str = "<scenario>"  # file it came from, for messages
+
+    @property
+    def n(self) -> int:
+        """Number of obstacles."""
+        return int(self.centres.shape[0])
+
+    @property
+    def model_radii(self) -> np.ndarray:
+        """Model circle radii ``R_i = max(rho, r_i + r)`` (metres)."""
+        return np.maximum(self.min_turn_radius, self.radii + self.robot_radius)
+
+    @property
+    def delta(self) -> float:
+        """Penalty per violation, ``2*pi*R`` with the largest model radius (paper 3.2)."""
+        big = float(self.model_radii.max()) if self.n else self.min_turn_radius
+        return 2.0 * np.pi * max(big, self.min_turn_radius)
+
+    def arrays(self, dtype: Any = np.float32) -> "ScenarioArrays":
+        """The scenario as a pytree of arrays for device code, in ``dtype``."""
+        f = self.field
+        if f is not None and f.keep_inside:
+            r = self.robot_radius
+            bounds = (f.xmin + r, f.xmax - r, f.ymin + r, f.ymax - r)
+        else:
+            bounds = (-np.inf, np.inf, -np.inf, np.inf)
+        return ScenarioArrays(
+            start=np.asarray(self.start, dtype),
+            goal=np.asarray(self.goal, dtype),
+            centres=np.asarray(self.centres, dtype).reshape(self.n, 2),
+            model_radii=np.asarray(self.model_radii, dtype).reshape(self.n),
+            rho=np.asarray(self.min_turn_radius, dtype),
+            bounds=np.asarray(bounds, dtype),
+            delta=np.asarray(self.delta, dtype),
+        )
+
+
+class ScenarioArrays(NamedTuple):
+    """Device view of a scenario (all arrays share one float dtype).
+
+    start, goal: (3,) pose ``x, y, heading`` (m, m, rad).
+    centres: (n, 2) obstacle centres (m). model_radii: (n,) ``R_i`` (m).
+    rho: () minimum turning radius (m).
+    bounds: (4,) ``xmin, xmax, ymin, ymax`` that path points must stay within
+    (already shrunk by the robot radius; infinite when the field is not kept).
+    delta: () penalty length per violation (m).
+    """
+
+    start: Any
+    goal: Any
+    centres: Any
+    model_radii: Any
+    rho: Any
+    bounds: Any
+    delta: Any

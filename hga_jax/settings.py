@@ -1,0 +1,127 @@
+"""GA settings: a frozen, hashable dataclass (a static argument of the compiled step).
+
+Defaults are the paper's (section 4): population 50, 50 generations,
+``pc = 0.4`` and ``pm = 0.02`` for both modules, roulette selection, cycle
+crossover and inversion mutation on the permutation, two-point crossover on the
+labels, no elitism.
+
+Probability conventions:
+- ``pc_upper`` / ``pc_lower``: per *pair* of selected parents, the chance that the
+  module's crossover is applied (otherwise the children copy the parents).
+- ``pm_upper``: per *individual*, the chance that the permutation is mutated once.
+- ``pm_lower``: per *gene*, the chance that a label is redrawn (to another value
+  of its allowed set).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+from .errors import ConfigError
+
+SELECTIONS = ("roulette", "tournament")
+PERM_CROSSOVERS = ("cx", "pmx", "ox1")
+PERM_MUTATIONS = ("inversion", "exchange")
+LABEL_CROSSOVERS = ("two_point",)
+COLLISIONS = ("full", "paper")
+PRECISIONS = ("float32", "float64")
+
+
+@dataclass(frozen=True)
+class GASettings:
+    """Settings of one GA configuration (all runs of a batch share them)."""
+
+    population: int = 50
+    generations: int = 50
+    pc_upper: float = 0.4
+    pm_upper: float = 0.02
+    pc_lower: float = 0.4
+    pm_lower: float = 0.02
+    selection: str = "roulette"
+    tournament_size: int = 2
+    perm_crossover: str = "cx"
+    perm_mutation: str = "inversion"
+    label_crossover: str = "two_point"
+    elites: int = 0
+    collision: str = "full"
+    precision: str = "float32"
+
+    def __post_init__(self) -> None:
+        self.validate("<settings>")
+
+    def validate(self, source: str, prefix: str = "ga") -> None:
+        """Raise :class:`ConfigError` naming ``source`` and the key if a value is bad."""
+
+        def bad(key: str, why: str) -> ConfigError:
+            return ConfigError(f"{source}: {_dotted(prefix, key)}: {why}")
+
+        for key in ("population", "generations", "tournament_size", "elites"):
+            v = getattr(self, key)
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise bad(key, f"must be an integer, got {v!r}")
+        if self.population < 2:
+            raise bad("population", f"must be >= 2, got {self.population}")
+        if self.generations < 0:
+            raise bad("generations", f"must be >= 0, got {self.generations}")
+        if not 1 <= self.tournament_size <= self.population:
+            raise bad("tournament_size", f"must be in 1..population, got {self.tournament_size}")
+        if not 0 <= self.elites < self.population:
+            raise bad("elites", f"must be in 0..population-1, got {self.elites}")
+        for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower"):
+            v = getattr(self, key)
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise bad(key, f"must be a number, got {v!r}")
+            if not (math.isfinite(v) and 0.0 <= v <= 1.0):
+                raise bad(key, f"must be a probability in [0, 1], got {v!r}")
+        for key, allowed in (
+            ("selection", SELECTIONS),
+            ("perm_crossover", PERM_CROSSOVERS),
+            ("perm_mutation", PERM_MUTATIONS),
+            ("label_crossover", LABEL_CROSSOVERS),
+            ("collision", COLLISIONS),
+            ("precision", PRECISIONS),
+        ):
+            v = getattr(self, key)
+            if v not in allowed:
+                raise bad(key, f"must be one of {', '.join(allowed)}, got {v!r}")
+
+    @classmethod
+    def from_mapping(
+        cls, mapping: Mapping[str, Any], source: str, prefix: str = "ga",
+        base: "GASettings | None" = None,
+    ) -> "GASettings":
+        """Settings from a TOML table (``[ga]``), on top of ``base`` (default: paper).
+
+        Unknown keys and wrong types raise :class:`ConfigError` naming the key.
+        """
+        names = {f.name: f for f in dataclasses.fields(cls)}
+        values = dataclasses.asdict(base or cls())
+        for key, v in mapping.items():
+            if key not in names:
+                raise ConfigError(
+                    f"{source}: {_dotted(prefix, key)}: unknown key (known: {', '.join(names)})"
+                )
+            default = values[key]
+            if isinstance(default, float) and isinstance(v, int) and not isinstance(v, bool):
+                v = float(v)
+            if type(v) is not type(default):
+                raise ConfigError(
+                    f"{source}: {_dotted(prefix, key)}: must be {type(default).__name__}, got {v!r}"
+                )
+            values[key] = v
+        obj = cls.__new__(cls)
+        for k, v in values.items():
+            object.__setattr__(obj, k, v)
+        obj.validate(source, prefix)
+        return obj
+
+    def replace(self, source: str = "<settings>", **changes: Any) -> "GASettings":
+        """A copy with ``changes`` applied (None values ignored), validated."""
+        changes = {k: v for k, v in changes.items() if v is not None}
+        return GASettings.from_mapping(changes, source, prefix="ga", base=self)
+
+
+def _dotted(prefix: str, key: str) -> str:
+    return f"{prefix}.{key}" if prefix else key

@@ -1,0 +1,148 @@
+"""The GA loop: determinism, batching, best-so-far tracking, elitism, operator registry."""
+import itertools
+
+import numpy as np
+import pytest
+
+from hga_jax.config import load_scenario
+from hga_jax.path import evaluate_path
+from hga_jax.runner import run_many
+from hga_jax.scenario import Scenario
+from hga_jax.settings import GASettings
+
+ROBOCUP = "configs/scenarios/robocup_paper.toml"
+FIELDS = ("perm", "labels", "length", "violations", "generation")
+
+
+@pytest.fixture(scope="module")
+def robocup():
+    return load_scenario(ROBOCUP)
+
+
+@pytest.fixture(scope="module")
+def batch100(robocup):
+    return run_many(robocup, seed=3, runs=100, exact=False)
+
+
+def _same_runs(a, b, rows_a, rows_b):
+    for f in FIELDS:
+        assert np.array_equal(getattr(a, f)[rows_a], getattr(b, f)[rows_b]), f
+    for h in a.history:
+        assert np.array_equal(a.history[h][:, rows_a], b.history[h][:, rows_b]), h
+
+
+def test_same_seed_gives_identical_results(robocup, batch100):
+    again = run_many(robocup, seed=3, runs=100, exact=False)
+    _same_runs(again, batch100, slice(None), slice(None))
+    other = run_many(robocup, seed=4, runs=100, exact=False)
+    assert not np.array_equal(other.history["mean_fitness"], batch100.history["mean_fitness"])
+
+
+@pytest.mark.parametrize("k", [0, 41, 99])
+def test_run_k_alone_equals_run_k_in_a_batch(robocup, batch100, k):
+    alone = run_many(robocup, seed=3, runs=1, first_run=k, exact=False)
+    _same_runs(alone, batch100, slice(0, 1), slice(k, k + 1))
+
+
+def test_chunking_does_not_change_runs(robocup, batch100):
+    part = run_many(robocup, seed=3, runs=30, first_run=10, chunk=7, exact=False)
+    _same_runs(part, batch100, slice(None), slice(10, 40))
+
+
+def test_history_and_best_so_far(batch100):
+    h = batch100.history
+    g = batch100.settings.generations
+    assert h["best_fitness"].shape == (g + 1, 100)
+    assert np.all(np.diff(h["best_so_far_fitness"], axis=0) >= 0)
+    assert np.all(h["best_fitness"] <= h["best_so_far_fitness"])
+    assert np.all(h["mean_fitness"] <= h["best_fitness"] * (1 + 1e-6))
+    # The generation first reached is where the best-so-far fitness last rose.
+    last = h["best_so_far_fitness"][-1]
+    first = np.argmax(h["best_so_far_fitness"] == last[None], axis=0)
+    assert np.array_equal(first, batch100.generation)
+    assert batch100.evaluations == 100 * 50 * 51
+
+
+def test_reported_lengths_are_float64_re_evaluations(robocup, batch100):
+    for i in (0, 7, 55):
+        p = evaluate_path(robocup, batch100.perm[i], batch100.labels[i])
+        assert p.length == batch100.length[i] and p.violations == batch100.violations[i]
+    best = batch100.best
+    assert best.length == batch100.length[batch100.best_run]
+    assert best.length == pytest.approx(min(batch100.length[batch100.feasible]), rel=1e-12)
+
+
+def test_elitism_keeps_the_generation_best(robocup):
+    s = GASettings(elites=2, generations=15)
+    res = run_many(robocup, s, seed=1, runs=20, exact=False)
+    assert np.all(np.diff(res.history["best_fitness"], axis=0) >= 0)
+
+
+@pytest.mark.parametrize("selection,crossover,mutation", [
+    ("tournament", "pmx", "exchange"), ("roulette", "ox1", "exchange"),
+    ("tournament", "cx", "inversion"),
+])
+def test_every_operator_runs_and_keeps_chromosomes_valid(robocup, selection, crossover, mutation):
+    s = GASettings(selection=selection, perm_crossover=crossover, perm_mutation=mutation,
+                   tournament_size=3, pc_upper=0.9, pm_upper=0.3, pm_lower=0.1, generations=10)
+    res = run_many(robocup, s, seed=2, runs=8, exact=False)
+    n = robocup.n
+    for perm, labels in zip(res.perm, res.labels):
+        assert sorted(perm) == list(range(n))
+        assert labels[0] in (-1, 1) and labels[-1] in (-1, 1)
+        assert set(labels[1:-1]) <= {-1, 0, 1}
+    assert np.all(np.isfinite(res.length))
+
+
+def test_open_field_finds_the_best_dubins_word():
+    sc = load_scenario("configs/scenarios/open_field.toml")
+    best = min(evaluate_path(sc, [], [a, b]).length for a, b in itertools.product((-1, 1), repeat=2))
+    res = run_many(sc, GASettings(generations=5), seed=0, runs=4, exact=False)
+    assert res.best.length == pytest.approx(best, rel=1e-12)
+
+
+def test_small_scene_reaches_the_brute_force_minimum():
+    rng = np.random.default_rng(5)
+    sc = Scenario("small", 0.09, 0.18, (0.2, 0.2, 0.0), (2.2, 1.0, 0.0),
+                  np.array([[1.0, 0.4], [1.4, 0.9], [1.8, 0.5]]), np.full(3, 0.09))
+    best = np.inf
+    for perm in itertools.permutations(range(3)):
+        for labels in itertools.product((-1, 1), (-1, 0, 1), (-1, 0, 1), (-1, 0, 1), (-1, 1)):
+            p = evaluate_path(sc, perm, labels)
+            if p.feasible:
+                best = min(best, p.length)
+    res = run_many(sc, seed=int(rng.integers(100)), runs=20, exact=False)
+    assert res.best.length == pytest.approx(best, rel=1e-9)
+    assert np.all(res.length[res.feasible] >= best * (1 - 1e-9))
+
+
+def test_float64_search(robocup):
+    res = run_many(robocup, GASettings(precision="float64", generations=5), runs=3, exact=False)
+    assert np.all(np.isfinite(res.length))
+
+
+SHARDED = """
+import json, sys, jax
+from hga_jax.config import load_scenario
+from hga_jax.runner import run_many
+from hga_jax.settings import GASettings
+r = run_many(load_scenario(sys.argv[1]), GASettings(generations=6), seed=2, runs=5, exact=False)
+print(json.dumps([jax.device_count(), r.length.tolist(), r.history["mean_fitness"].tolist()]))
+"""
+
+
+def test_sharding_over_two_devices_gives_the_same_runs():
+    import json
+    import os
+    import subprocess
+    import sys
+
+    outs = []
+    for devices in (1, 2):
+        env = {**os.environ, "XLA_FLAGS": f"--xla_force_host_platform_device_count={devices}",
+               "JAX_PLATFORMS": "cpu"}
+        proc = subprocess.run([sys.executable, "-c", SHARDED, ROBOCUP], capture_output=True,
+                              text=True, env=env, check=True)
+        outs.append(json.loads(proc.stdout.strip().splitlines()[-1]))
+    assert [o[0] for o in outs] == [1, 2]
+    assert outs[0][1:] == outs[1][1:]
