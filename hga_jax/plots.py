@@ -133,13 +133,15 @@ def _band(ax: Axes, gens: np.ndarray, data: np.ndarray, colour: str, label: str,
 
 def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
                      optimum_fitness: float | None = None, best_length: np.ndarray | None = None,
-                     optimum_length: float | None = None, title: str | None = None) -> Figure:
+                     optimum_length: float | None = None, title: str | None = None,
+                     length_label: str = "best path length (m)") -> Figure:
     """Fitness over generation (paper Fig. 5) from arrays shaped (G+1, runs).
 
     Row ``g`` is generation ``g`` (0 = initial population). Draws the median
     over runs and the interquartile band of the best and the mean fitness, the
     optimum's fitness as a line when given, and, when ``best_length`` is given,
-    a second panel of the best-so-far path length against the optimum length.
+    a second panel of the best-so-far path length against the optimum length
+    (``length_label`` names its axis).
     """
     best = np.asarray(best_fitness, float).reshape(len(best_fitness), -1)
     mean = np.asarray(mean_fitness, float).reshape(len(mean_fitness), -1)
@@ -162,12 +164,12 @@ def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
     if two:
         ax2 = axes[1]
         length = np.asarray(best_length, float).reshape(len(best_length), -1)
-        _band(ax2, gens, length, C_ARC, f"best length ({what})", "length")
+        _band(ax2, gens, length, C_ARC, f"best so far ({what})", "length")
         if optimum_length is not None:
             ax2.axhline(float(optimum_length), color="black", ls="--", lw=1.0,
                         label="optimum length", gid="optimum_length")
         ax2.set_xlabel("generation")
-        ax2.set_ylabel("best path length (m)")
+        ax2.set_ylabel(length_label)
         ax2.set_xlim(gens[0], max(gens[-1], 1))
         ax2.grid(alpha=0.3)
         ax2.legend(fontsize=8, loc="upper right")

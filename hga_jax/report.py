@@ -90,7 +90,8 @@ def write_run(res: RunsResult, out: str, plot: bool = False) -> list[str]:
             # Best-so-far Dist_m (length plus penalty): the length itself once feasible.
             best_length=length_of_fitness(h["best_so_far_fitness"].astype(np.float64)),
             optimum_length=opt,
-            title=f"{res.scenario.name}: {len(res.length)} runs, median and quartiles")
+            title=f"{res.scenario.name}: {len(res.length)} runs, median and quartiles",
+            length_label="best-so-far Dist$_m$ = length + penalty (m)")
         paths.append(_save(save_figure, fig, out, "convergence.png"))
     return paths
 
