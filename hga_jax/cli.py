@@ -164,7 +164,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"hga-jax: error: {e}", file=sys.stderr)
         return 2
     except OSError as e:
-        print(f"hga-jax: error: {e.filename or ''}: {e.strerror or e}", file=sys.stderr)
+        where = f"{e.filename}: " if e.filename else ""
+        print(f"hga-jax: error: {where}{e.strerror or e}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("hga-jax: interrupted", file=sys.stderr)

@@ -54,34 +54,60 @@ class Decoded(NamedTuple):
     lines: Any
 
 
-def _position_circles(sa: ScenarioArrays, perm, labels):
-    """Circle of every chromosome position, as (L, B) arrays ``cx, cy, r, sign, id``."""
-    lab = labels.T.astype(sa.centres.dtype)  # (L, B)
-    ids = perm.T  # (n, B)
-    scx, scy = g.turning_circle(sa.start[0], sa.start[1], sa.start[2], sa.rho, lab[0])
-    gcx, gcy = g.turning_circle(sa.goal[0], sa.goal[1], sa.goal[2], sa.rho, lab[-1])
-    ocx = sa.centres[:, 0][ids]
-    ocy = sa.centres[:, 1][ids]
-    orr = sa.model_radii[ids]
+def _path_circles(sa: ScenarioArrays, perm, labels):
+    """The circles of the path, compacted to the front of a slot axis.
+
+    Returns ``count`` (B,) and (S, B) arrays ``cx, cy, r, sign, id`` (S = n + 2):
+    slot 0 is the start circle, slots 1..count-2 the touched obstacles in order,
+    slot count-1 the goal circle; ``id`` is the obstacle index or -1. Only the
+    labels and obstacle indices are compacted; the circles are looked up after.
+    """
     batch = labels.shape[0]
-    rho = jnp.broadcast_to(sa.rho, (1, batch)).astype(lab.dtype)
-    cx = jnp.concatenate([scx[None], ocx, gcx[None]])
-    cy = jnp.concatenate([scy[None], ocy, gcy[None]])
-    r = jnp.concatenate([rho, orr, rho])
     none = jnp.full((1, batch), -1, jnp.int32)
-    oid = jnp.concatenate([none, ids.astype(jnp.int32), none])
-    return cx, cy, r, lab, oid
+    oid = jnp.concatenate([none, perm.T.astype(jnp.int32), none])  # (S, B)
+    lab = labels.T.astype(jnp.int32)
+    count, (sign, oid) = _compact(lab != 0, lab, oid)
+    sign = sign.astype(sa.centres.dtype)
+    slot = jnp.arange(lab.shape[0])[:, None]
+    is_start, is_goal = slot == 0, slot == (count - 1)[None]
+    # Obstacle tables with one extra row for id -1 (start and goal; also when n = 0).
+    n = sa.centres.shape[0]
+    safe = jnp.where(oid >= 0, oid, n)
+    ox = jnp.append(sa.centres[:, 0], 0.0)
+    oy = jnp.append(sa.centres[:, 1], 0.0)
+    orad = jnp.append(sa.model_radii, sa.rho)
+    scx, scy = g.turning_circle(sa.start[0], sa.start[1], sa.start[2], sa.rho, sign[0])
+    last_sign = jnp.take_along_axis(sign, (count - 1)[None], axis=0)[0]
+    gcx, gcy = g.turning_circle(sa.goal[0], sa.goal[1], sa.goal[2], sa.rho, last_sign)
+    cx = jnp.where(is_start, scx[None], jnp.where(is_goal, gcx[None], ox[safe]))
+    cy = jnp.where(is_start, scy[None], jnp.where(is_goal, gcy[None], oy[safe]))
+    r = jnp.where(is_start | is_goal, sa.rho, orad[safe])
+    oid = jnp.where(is_start | is_goal, -1, oid)
+    return count, (cx, cy, r, sign, oid)
 
 
 def _compact(active, *columns):
-    """Move the active rows of each (L, B) column to the front, keeping their order."""
+    """Move the active rows of (L, B) columns to the front, keeping their order.
+
+    Each active row moves up by the number of inactive rows above it; the move
+    is done in ``ceil(log2 L)`` steps of ``2**k`` rows (bit k of the shift, lowest
+    bit first), which never lets two active rows meet. Rows from ``count`` on
+    hold leftovers (finite values of other rows) and must be masked by the caller.
+    Returns ``(count, columns)``.
+    """
     length = active.shape[0]
-    rank = jnp.cumsum(active, axis=0) - 1
-    slot = jnp.arange(length)[:, None, None]
-    pick = active[None] & (rank[None] == slot)  # (slot, position, B)
-    out = tuple(jnp.sum(jnp.where(pick, col[None], jnp.zeros_like(col[None])), axis=1)
-                for col in columns)
-    return rank[-1] + 1, out
+    shift = jnp.cumsum(~active, axis=0, dtype=jnp.int32)
+    valid = active
+    cols = (shift,) + columns
+    step, k = 1, 0
+    while step < length:
+        moving = valid & (((cols[0] >> k) & 1) == 1)
+        incoming = jnp.concatenate([moving[step:], jnp.zeros_like(moving[:step])])
+        valid = incoming | (valid & ~moving)
+        cols = tuple(jnp.where(incoming, jnp.concatenate([c[step:], c[-step:]]), c)
+                     for c in cols)
+        step, k = 2 * step, k + 1
+    return jnp.sum(active, axis=0, dtype=jnp.int32), cols[1:]
 
 
 def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> Decoded:
@@ -93,8 +119,7 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
     sa = jax.tree.map(jnp.asarray, sa)
     dt = sa.centres.dtype
     tol = g.tolerances(dt)
-    cx, cy, r, sign, oid = _position_circles(sa, perm, labels)
-    count, (cx, cy, r, sign, oid) = _compact(sign != 0, cx, cy, r, sign, oid)
+    count, (cx, cy, r, sign, oid) = _path_circles(sa, perm, labels)
     qx = sa.centres[:, 0][:, None]  # (n, 1) obstacle centres against (1, B) pieces
     qy = sa.centres[:, 1][:, None]
     qr = sa.model_radii[:, None]

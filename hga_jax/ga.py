@@ -12,6 +12,7 @@ inside a batch of any size.
 """
 from __future__ import annotations
 
+import functools
 from typing import Any, NamedTuple
 
 import jax
@@ -60,6 +61,19 @@ class Record(NamedTuple):
     best_so_far_violations: Any
 
 
+def _fixed_stream(fn):
+    """Draw random bits with ``jax_threefry_partitionable`` off, whatever the caller's
+    setting: the stream is part of what a seed means (it also compiles faster on CPU)."""
+
+    @functools.wraps(fn)
+    def wrapped(*args, **kwargs):
+        with jax.threefry_partitionable(False):
+            return fn(*args, **kwargs)
+
+    return wrapped
+
+
+@_fixed_stream
 def run_key(seed: int, k):
     """The PRNG key of run ``k`` of ``seed`` (threefry, the JAX default)."""
     return jax.random.fold_in(jax.random.key(seed), k)
@@ -83,6 +97,7 @@ def _record(pop: Population, best: Best) -> Record:
     return Record(jnp.max(pop.fitness), mean, best.fitness, best.length, best.violations)
 
 
+@_fixed_stream
 def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
     """Random initial population (generation 0), evaluated."""
     n, p = sa.centres.shape[0], settings.population
@@ -114,6 +129,7 @@ def _crossover(key, op, prob, x):
     return jnp.concatenate([paired, x[2 * half:]])
 
 
+@_fixed_stream
 def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
     """One generation: select, vary both modules, evaluate, keep elites, track the best."""
     ks, kcu, kmu, kcl, kml = jax.random.split(key, 5)
@@ -146,18 +162,9 @@ def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generati
     return GAState(pop, best), _record(pop, best)
 
 
+@_fixed_stream
 def run(key, sa: ScenarioArrays, settings: GASettings):
-    """One whole run: ``(final GAState, Record of arrays shaped (G + 1,))``.
-
-    Random bits are drawn with ``jax_threefry_partitionable`` off, whatever the
-    caller's setting (the stream is part of what a seed means; it also compiles
-    faster on the CPU).
-    """
-    with jax.threefry_partitionable(False):
-        return _run(key, sa, settings)
-
-
-def _run(key, sa: ScenarioArrays, settings: GASettings):
+    """One whole run: ``(final GAState, Record of arrays shaped (G + 1,))``."""
     k0, kg = jax.random.split(key)
     state = init(k0, sa, settings)
     first = _record(state.pop, state.best)
@@ -170,6 +177,10 @@ def _run(key, sa: ScenarioArrays, settings: GASettings):
     state, recs = jax.lax.scan(body, state, (jax.random.split(kg, settings.generations), gens))
     history = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), first, recs)
     return state, history
+
+
+compiled_step = jax.jit(step, static_argnames="settings")
+"""One generation as one compiled function: ``compiled_step(key, state, sa, settings, g)``."""
 
 
 def run_batch(seed, ks, sa: ScenarioArrays, settings: GASettings):

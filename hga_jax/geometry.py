@@ -182,15 +182,23 @@ def segment_hits_paper(p1x, p1y, p2x, p2y, qx, qy, radius, tol):
 
 def arc_hits(cx, cy, r, ax, ay, bx, by, swp, sign, qx, qy, radius, tol):
     """The arc (centre C, radius r, from point A to point B, sweep ``swp``, ``sign``)
-    comes closer than ``radius - tol`` to Q."""
+    comes closer than ``radius - tol`` to Q.
+
+    Its closest point to Q is the circle's point towards Q when that direction lies
+    within the arc (distance ``| |Q - C| - r |``), else the nearer end. Compared in
+    squares, without square roots.
+    """
     xp = xp_of(cx, cy, r, ax, ay, bx, by, swp, sign, qx, qy, radius)
     vx, vy = qx - cx, qy - cy
     inside = in_span(ax - cx, ay - cy, bx - cx, by - cy, vx, vy, swp, sign)
-    d_mid = xp.abs(xp.sqrt(vx * vx + vy * vy) - r)
-    d_a = xp.sqrt((qx - ax) ** 2 + (qy - ay) ** 2)
-    d_b = xp.sqrt((qx - bx) ** 2 + (qy - by) ** 2)
-    dist = xp.where(inside, d_mid, xp.minimum(d_a, d_b))
-    return dist < radius - tol
+    reach = xp.maximum(radius - tol, 0.0)
+    reach2 = reach * reach
+    vv = vx * vx + vy * vy
+    lo, hi = r - reach, r + reach
+    hit_mid = (vv < hi * hi) & ((lo < 0) | (vv > lo * lo))
+    hit_a = (qx - ax) ** 2 + (qy - ay) ** 2 < reach2
+    hit_b = (qx - bx) ** 2 + (qy - by) ** 2 < reach2
+    return xp.where(inside, hit_mid, hit_a | hit_b)
 
 
 def arc_leaves_box(cx, cy, r, ax, ay, bx, by, swp, sign, bounds, tol):

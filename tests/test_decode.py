@@ -189,3 +189,18 @@ def test_float32_search_agrees_with_float64(collision):
         len64, v64 = np.asarray(d64.length), np.asarray(d64.violations)
     assert np.allclose(np.asarray(d32.length), len64, rtol=1e-5)
     assert np.mean(np.asarray(d32.violations) == v64) > 0.99
+
+
+@pytest.mark.parametrize("length", [2, 3, 5, 11, 27])
+def test_compaction_keeps_active_rows_in_order(length):
+    from hga_jax.decode import _compact
+
+    rng = np.random.default_rng(length)
+    active = rng.random((length, 300)) < 0.5
+    active[0] = active[-1] = True
+    values = rng.integers(0, 1000, (length, 300))
+    count, (out,) = _compact(jax.numpy.asarray(active), jax.numpy.asarray(values))
+    for b in range(300):
+        expected = values[active[:, b], b]
+        assert int(count[b]) == len(expected)
+        assert np.array_equal(np.asarray(out)[: len(expected), b], expected)

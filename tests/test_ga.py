@@ -146,3 +146,21 @@ def test_sharding_over_two_devices_gives_the_same_runs():
         outs.append(json.loads(proc.stdout.strip().splitlines()[-1]))
     assert [o[0] for o in outs] == [1, 2]
     assert outs[0][1:] == outs[1][1:]
+
+
+def test_one_compiled_generation_equals_the_scanned_one(robocup):
+    import jax
+
+    from hga_jax import ga
+
+    s, sa = GASettings(generations=3), robocup.arrays()
+    key = ga.run_key(7, 0)
+    _, history = ga.run(key, sa, s)
+    with jax.threefry_partitionable(False):  # the stream the GA draws from
+        k0, kg = jax.random.split(key)
+        keys = jax.random.split(kg, s.generations)
+    state = ga.init(k0, sa, s)
+    for g, k in enumerate(keys, start=1):
+        state, rec = ga.compiled_step(k, state, sa, s, g)
+        for name, value in rec._asdict().items():
+            assert np.array_equal(np.asarray(value), np.asarray(getattr(history, name))[g]), name
