@@ -102,11 +102,8 @@ def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
     """Random initial population (generation 0), evaluated."""
     n, p = sa.centres.shape[0], settings.population
     kp, kl = jax.random.split(key)
-    if n:
-        perm = jax.vmap(perm_ops.random_permutation, (0, None))(jax.random.split(kp, p), n)
-    else:
-        perm = jnp.zeros((p, 0), jnp.int32)
-    labels = jax.vmap(label_ops.random_labels, (0, None))(jax.random.split(kl, p), n + 2)
+    perm = perm_ops.random_permutation(kp, n, (p,))
+    labels = label_ops.random_labels(kl, n + 2, (p,))
     pop = _evaluated(sa, perm, labels, settings)
     worst = Best(perm[0], labels[0], jnp.asarray(-jnp.inf, pop.fitness.dtype), pop.length[0],
                  pop.violations[0], jnp.asarray(0, jnp.int32))

@@ -33,13 +33,13 @@ def _is_end(L: int) -> Array:
     return (pos == 0) | (pos == L - 1)
 
 
-def random_labels(key: Array, L: int) -> Array:
-    """Labels uniform over each position's allowed set (``int32``, shape ``(L,)``).
+def random_labels(key: Array, L: int, shape: tuple[int, ...] = ()) -> Array:
+    """Labels uniform over each position's allowed set (``int32``, shape ``shape + (L,)``).
 
     One draw ``r`` uniform in ``0..5`` per position: ends take
     ``2 * (r % 2) - 1``, the others ``r % 3 - 1``; both are uniform.
     """
-    r = uniform_int(key, (L,), 0, 6)
+    r = uniform_int(key, tuple(shape) + (L,), 0, 6)
     return jnp.where(_is_end(L), 2 * (r % 2) - 1, r % 3 - 1)
 
 
