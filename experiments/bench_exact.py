@@ -17,6 +17,8 @@ import time
 
 import numpy as np
 
+from calibration import calibration
+
 from hga_jax.exact import solve
 from hga_jax.scenario import Field, Scenario
 
@@ -34,18 +36,6 @@ def random_scene(rng: np.random.Generator, n: int) -> Scenario:
             radii.append(r)
     return Scenario(f"bench{n}", robot, rho, start, goal, np.array(centres), np.array(radii),
                     field=Field(0.0, 4.0, 0.0, 3.0, keep_inside=True))
-
-
-def calibration(repeats: int = 5) -> float:
-    """Median seconds of a fixed pure-Python loop (10^6 multiply-adds)."""
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        acc = 0
-        for i in range(1_000_000):
-            acc += i * i
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def main() -> None:

@@ -15,20 +15,10 @@ import argparse
 import statistics
 import time
 
+from calibration import calibration
+
 from hga_jax.config import load_scenario
 from hga_jax.runner import run_many
-
-
-def calibration(repeats: int = 5) -> float:
-    """Median seconds of a fixed pure-Python loop (10^6 multiply-adds)."""
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        acc = 0.0
-        for i in range(1_000_000):
-            acc = acc * 0.5 + i
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def bench(path: str, runs: int, repeats: int) -> dict[str, float]:
