@@ -113,10 +113,12 @@ def _out_dir(args) -> str:
 def _cmd_run(args) -> int:
     scenario = load_scenario(args.scenario)
     settings = _settings(args, scenario)
-    for flag, value, low in (("--runs", args.runs, 1), ("--first-run", args.first_run, 0),
-                             ("--chunk", args.chunk or 1, 1)):
-        if value < low:
-            raise ConfigError(f"command line: {flag}: must be >= {low}, got {value}")
+    for flag, value, low, high in (("--runs", args.runs, 1, 2**31),
+                                   ("--first-run", args.first_run, 0, 2**31 - max(args.runs, 1)),
+                                   ("--seed", args.seed, 0, 2**32),
+                                   ("--chunk", args.chunk or 1, 1, 2**31)):
+        if not low <= value < high:
+            raise ConfigError(f"command line: {flag}: must be in {low}..{high - 1}, got {value}")
     out = _out_dir(args)
     from . import report
     from .runner import run_many

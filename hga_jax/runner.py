@@ -8,12 +8,14 @@ anything is reported.
 from __future__ import annotations
 
 import math
+import sys
 import time
 from typing import Any
 
 import jax
 import numpy as np
 
+from .errors import ConfigError
 from .exact import solve
 from .fitness import fitness_of
 from .ga import run_batch
@@ -48,8 +50,11 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
     settings. ``exact`` also solves the model's optimum and reports the gap.
     """
     settings = settings or settings_for(scenario)
-    if runs < 1:
-        raise ValueError("runs must be >= 1")
+    for key, value, low, high in (("seed", seed, 0, 2**32), ("runs", runs, 1, 2**31),
+                                  ("first_run", first_run, 0, 2**31 - runs)):
+        if not (isinstance(value, (int, np.integer)) and low <= value < high):
+            raise ConfigError(f"run_many: {key}: must be an integer in {low}..{high - 1}, "
+                              f"got {value!r}")
     dtype = np.float64 if settings.precision == "float64" else np.float32
     chunk = chunk or max(1, CHROMOSOMES_PER_CHUNK // settings.population)
     chunk = min(chunk, runs)
@@ -61,6 +66,9 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
     def fn(ks, sa):
         return run_batch(seed, ks, sa, settings)
 
+    if progress:
+        print(f"compiling {chunk} runs x {settings.generations + 1} generations x "
+              f"{settings.population} individuals ...", file=sys.stderr, flush=True)
     with jax.enable_x64(dtype == np.float64):
         sa = scenario.arrays(dtype)
         t0 = time.perf_counter()

@@ -110,6 +110,8 @@ def test_bad_flags_and_ga_file(tmp_path, capsys):
     assert ga in err and "selektion" in err
     assert main(["run", str(tmp_path / "missing.toml"), "--quiet"]) == 2
     assert "missing.toml" in capsys.readouterr().err
+    assert main(["run", good, "--seed", str(2**32), "--quiet", "--out", str(tmp_path)]) == 2
+    assert "--seed" in capsys.readouterr().err  # would alias seed 0: refused
     assert main(["check", good]) == 0
 
 
