@@ -87,7 +87,8 @@ class RunsResult:
     def summary(self) -> dict[str, Any]:
         """The figures the command line prints and result.json carries."""
         best_len = self.best.length
-        found = self.feasible & np.isclose(self.length, best_len, rtol=1e-9, atol=0.0)
+        found = (self.feasible == self.best.feasible) & np.isclose(
+            self.length, best_len, rtol=1e-9, atol=0.0)
         out: dict[str, Any] = {
             "best_length": best_len,
             "best_feasible": self.best.feasible,

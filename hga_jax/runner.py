@@ -94,7 +94,10 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
     t0 = time.perf_counter()
     d = decode64(scenario, best.perm, best.labels, settings.collision)
     length, violations = d.length.astype(np.float64), d.violations.astype(np.int64)
-    top = int(np.argmax(fitness_of(length, violations, scenario.delta)))
+    # The best run: the shortest feasible path if any run has one, else the fittest.
+    score = fitness_of(length, violations, scenario.delta)
+    pool = np.flatnonzero(violations == 0) if np.any(violations == 0) else np.arange(runs)
+    top = int(pool[np.argmax(score[pool])])
     best_path = evaluate_path(scenario, best.perm[top], best.labels[top], settings.collision)
     optimum = solve(scenario, settings.collision) if exact else None
     return RunsResult(
