@@ -12,7 +12,7 @@ import math
 import os
 import platform
 import tempfile
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -46,7 +46,6 @@ class RunsResult:
     search_s: float = 0.0
     finish_s: float = 0.0
     evaluations: int = 0
-    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def feasible(self) -> np.ndarray:

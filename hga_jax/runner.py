@@ -32,7 +32,7 @@ def settings_for(scenario: Scenario, base: GASettings | None = None) -> GASettin
     return GASettings.from_mapping(scenario.ga, scenario.source, base=base)
 
 
-def _sharding(size: int):
+def _sharding():
     """Split the run axis over all devices when there are several (None: one device)."""
     devices = jax.devices()
     if len(devices) < 2:
@@ -60,7 +60,7 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
     chunk = min(chunk, runs)
     devices = jax.device_count()
     chunk = math.ceil(chunk / devices) * devices
-    sharding = _sharding(chunk)
+    sharding = _sharding()
     ks_all = np.arange(first_run, first_run + math.ceil(runs / chunk) * chunk, dtype=np.int32)
 
     def fn(ks, sa):

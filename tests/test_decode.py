@@ -4,7 +4,7 @@ import math
 import jax
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from hga_jax.decode import decode_batch
@@ -156,7 +156,7 @@ def _same_heading(a, b):
     return abs((a - b + math.pi) % TWO_PI - math.pi) < 1e-6
 
 
-@settings(max_examples=150, deadline=None)
+
 @given(scenes_and_chromosomes())
 def test_paths_are_finite_continuous_and_end_at_the_goal(case):
     sc, perm, labels = case

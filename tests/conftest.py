@@ -1,0 +1,10 @@
+"""Test configuration: hypothesis runs derandomized in CI so a run is repeatable;
+locally it explores new examples each time (``HYPOTHESIS_PROFILE=deep`` for many more)."""
+import os
+
+from hypothesis import settings
+
+settings.register_profile("dev", max_examples=150, deadline=None)
+settings.register_profile("ci", max_examples=150, deadline=None, derandomize=True, print_blob=True)
+settings.register_profile("deep", max_examples=3000, deadline=None)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev"))
