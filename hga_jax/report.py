@@ -44,6 +44,12 @@ def run_summary(res: RunsResult) -> str:
             f"ended infeasible); "
             f"median generations to within 1% {s['median_generation_within_1pct']}, "
             f"to hit {s['median_generation_hit']}")
+        opt = res.optimum
+        if not opt.expressible:
+            alt = opt.best_expressible
+            lines.append("  (the optimal walk touches an obstacle twice, which no chromosome "
+                         "expresses; best chromosome path "
+                         + (f"{alt.length:.6f} m)" if alt is not None else "unknown)"))
     elif res.optimum is not None:
         lines.append(f"optimum: none ({getattr(res.optimum, 'message', 'no feasible path')})")
     rate = s["evaluations_per_s"]
@@ -59,8 +65,9 @@ def exact_summary(scenario: Scenario, opt: Any) -> str:
                 f"solved in {1000 * opt.seconds:.1f} ms")
     text = (f"scenario {scenario.name} ({scenario.n} obstacles), collision {opt.collision}: "
             f"optimum {opt.length:.6f} m touching {_touched(opt.touched)}, "
-            f"solved in {1000 * opt.seconds:.1f} ms\n"
-            f"chromosome upper {opt.upper} lower {opt.lower}")
+            f"solved in {1000 * opt.seconds:.1f} ms")
+    if opt.expressible:
+        text += f"\nchromosome upper {opt.upper} lower {opt.lower}"
     if not opt.expressible:
         alt = opt.best_expressible
         text += ("\nthe optimal walk touches an obstacle twice: no chromosome expresses it; "
