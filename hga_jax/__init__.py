@@ -5,8 +5,9 @@ Notebook use::
     import hga_jax as hg
     sc = hg.load_scenario("configs/scenarios/robocup_paper.toml")
     res = hg.run_many(sc, runs=100, seed=1)
-    print(res.summary())
+    print(hg.run_summary(res))
     hg.plot_path(sc, res.best.segments, touched=res.best.touched)
+    hg.write_run(res, "results/notebook", plot=True)  # result.json, history.csv, PNGs
 """
 __version__ = "0.1.0"
 
@@ -15,6 +16,7 @@ from .errors import ConfigError
 from .exact import solve
 from .path import Path, evaluate_path, from_chromosome
 from .plots import plot_convergence, plot_path, save_figure
+from .report import run_summary, write_run
 from .results import RunsResult
 from .runner import run_many, settings_for
 from .scenario import Field, Scenario
@@ -23,5 +25,6 @@ from .settings import GASettings
 __all__ = [
     "ConfigError", "Field", "GASettings", "Path", "RunsResult", "Scenario",
     "evaluate_path", "from_chromosome", "load_scenario", "plot_convergence", "plot_path",
-    "run_many", "save_figure", "scenario_from_dict", "settings_for", "solve",
+    "run_many", "run_summary", "save_figure", "scenario_from_dict", "settings_for", "solve",
+    "write_run",
 ]
