@@ -86,6 +86,13 @@ BAD = [
     ("bad ga value", GOOD + "[ga]\npopulation = 1\n", "ga.population"),
     ("unknown ga key", GOOD + "[ga]\npopsize = 10\n", "ga.popsize"),
     ("syntax", GOOD.replace("[goal]", "[goal"), "syntax error"),
+    ("unknown key", GOOD.replace("[robot]\n", "[robot]\nradus = 0.1\n"), "robot.radus"),
+    ("wrong type", GOOD.replace("y = 0.5\n[field]", "y = \"0.5\"\n[field]"), "obstacles[0].y"),
+    ("inf", GOOD.replace("heading_deg = 0\n[[obstacles]]", "heading_deg = inf\n[[obstacles]]"),
+     "goal.heading_deg"),
+    ("goal inside", GOOD.replace("x = 1.4", "x = 2.45"), "goal"),
+    ("zero radius", GOOD.replace("min_turn_radius = 0.2", "min_turn_radius = 0"),
+     "robot.min_turn_radius"),
 ]
 
 
