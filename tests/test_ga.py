@@ -164,3 +164,11 @@ def test_one_compiled_generation_equals_the_scanned_one(robocup):
         state, rec = ga.compiled_step(k, state, sa, s, g)
         for name, value in rec._asdict().items():
             assert np.array_equal(np.asarray(value), np.asarray(getattr(history, name))[g]), name
+
+
+def test_run_alone_equals_batch_on_a_large_scene_with_other_operators():
+    sc = load_scenario("configs/scenarios/cluttered.toml")  # n = 28: gather-based operators
+    s = GASettings(generations=15, perm_crossover="pmx", selection="tournament", elites=1)
+    big = run_many(sc, s, seed=9, runs=40, exact=False)
+    alone = run_many(sc, s, seed=9, runs=1, first_run=27, exact=False)
+    _same_runs(alone, big, slice(0, 1), slice(27, 28))
