@@ -110,6 +110,7 @@ def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
 
     path = opt.path.to_dict() if opt.feasible and opt.path is not None else None
     return _finite({
+        "scenario_name": scenario.name,
         "scenario": {"name": scenario.name, "source": scenario.source, "obstacles": scenario.n},
         "seed": None, "runs": None, "settings": {"collision": opt.collision},
         "versions": {"hga_jax": __version__, "jax": jax.__version__, "numpy": np.__version__},

@@ -136,6 +136,7 @@ class RunsResult:
         from . import __version__
 
         return _finite({
+            "scenario_name": self.scenario.name,
             "scenario": {"name": self.scenario.name, "source": self.scenario.source,
                          "obstacles": self.scenario.n},
             "seed": self.seed,

@@ -46,7 +46,8 @@ def test_run_writes_result_history_and_plots(tmp_path, capsys):
     assert "best length" in printed and "compile" in printed and "search" in printed
     data = json.loads((out / "result.json").read_text())
     best = data["best"]
-    assert data["scenario"]["name"] == "robocup_paper" and data["seed"] == 5
+    assert data["scenario"]["name"] == data["scenario_name"] == "robocup_paper"
+    assert data["seed"] == 5
     assert data["settings"]["generations"] == 8 and data["settings"]["population"] == 50
     assert {"jax", "hga_jax"} <= set(data["versions"])
     assert len(data["per_run"]) == 6
@@ -129,3 +130,18 @@ def test_console_script_prints_no_traceback(tmp_path):
     assert proc.returncode == 2
     assert proc.stderr.count("\n") == 1 and "robot.radius" in proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_exact_command_writes_the_optimum(tmp_path, capsys):
+    out = tmp_path / "exact"
+    assert main(["exact", ROBOCUP, "--out", str(out), "--plot"]) == 0
+    printed = capsys.readouterr().out
+    assert "optimum 2.245430 m" in printed and "2CW 4CW 5CCW 6CW" in printed
+    data = json.loads((out / "result.json").read_text())
+    assert set(data) >= {"scenario_name", "settings", "versions", "best", "optimum", "per_run"}
+    best = data["best"]
+    assert best["feasible"] and best["length"] == data["optimum"]["length"]
+    assert best["upper"] == [0, 2, 4, 5, 6, 1, 3, 7, 8, 9, 10]
+    assert best["lower"] == [-1, 1, 1, -1, 1, 0, 0, 0, 0, 0, 1]
+    assert segments_length(best["segments"]) == pytest.approx(best["length"], rel=1e-9)
+    assert (out / "path.png").stat().st_size > 10_000
