@@ -160,7 +160,7 @@ def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
     ax.set_ylabel("fitness  10000 / (Dist$_m$ + 1)")
     ax.set_xlim(gens[0], max(gens[-1], 1))
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="best")
     if two:
         ax2 = axes[1]
         length = np.asarray(best_length, float).reshape(len(best_length), -1)
@@ -172,7 +172,7 @@ def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
         ax2.set_ylabel(length_label)
         ax2.set_xlim(gens[0], max(gens[-1], 1))
         ax2.grid(alpha=0.3)
-        ax2.legend(fontsize=8, loc="upper right")
+        ax2.legend(fontsize=8, loc="best")
     if title is not None:
         fig.suptitle(title)
     return fig
