@@ -71,6 +71,8 @@ def _output_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--plot", action="store_true", help="also write PNG plots")
     p.add_argument("--force", action="store_true", help="overwrite an existing result.json")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on "
+                   "disk (default: $HGA_JAX_CACHE_DIR or ~/.cache/hga-jax/xla)")
 
 
 def _ga_file(path: str | None, base: GASettings) -> GASettings:
@@ -121,7 +123,10 @@ def _cmd_run(args) -> int:
             raise ConfigError(f"command line: {flag}: must be in {low}..{high - 1}, got {value}")
     out = _out_dir(args)
     from . import report
-    from .runner import run_many
+    from .runner import enable_compilation_cache, run_many
+
+    if not args.no_cache:
+        enable_compilation_cache()
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet)
@@ -139,6 +144,10 @@ def _cmd_exact(args) -> int:
     out = _out_dir(args)
     from . import report
     from .exact import solve
+    from .runner import enable_compilation_cache
+
+    if not args.no_cache:
+        enable_compilation_cache()
 
     opt = solve(scenario, collision)
     print(report.exact_summary(scenario, opt))

@@ -8,6 +8,7 @@ anything is reported.
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 from typing import Any
@@ -25,6 +26,30 @@ from .scenario import Scenario
 from .settings import GASettings
 
 CHROMOSOMES_PER_CHUNK = 50_000  # beyond this the working set leaves the cache
+
+
+def enable_compilation_cache(path: str | None = None) -> str | None:
+    """Keep compiled GA programs on disk, so a repeated run skips most of its compile.
+
+    ``path`` defaults to ``$HGA_JAX_CACHE_DIR``, else ``$XDG_CACHE_HOME/hga-jax/xla``
+    (``~/.cache/hga-jax/xla``); ``HGA_JAX_CACHE_DIR=off`` disables it. Sets JAX's
+    global compilation-cache option (the command line does this; notebooks may).
+    Returns the folder used, or None. A folder that cannot be created only costs
+    compile time.
+    """
+    where = path if path is not None else os.environ.get("HGA_JAX_CACHE_DIR")
+    if where in ("", "off"):
+        return None
+    if where is None:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        where = os.path.join(base, "hga-jax", "xla")
+    try:
+        os.makedirs(where, exist_ok=True)
+    except OSError:
+        return None
+    jax.config.update("jax_compilation_cache_dir", where)
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
+    return where
 
 
 def settings_for(scenario: Scenario, base: GASettings | None = None) -> GASettings:

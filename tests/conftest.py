@@ -1,8 +1,12 @@
-"""Test configuration: hypothesis runs derandomized in CI so a run is repeatable;
+"""Test configuration. Hypothesis runs derandomized in CI so a run is repeatable;
 locally it explores new examples each time (``HYPOTHESIS_PROFILE=deep`` for many more)."""
 import os
 
 from hypothesis import settings
+
+# In-process command-line tests keep no compiled programs on disk (one test
+# checks the cache in subprocesses with a folder of its own).
+os.environ["HGA_JAX_CACHE_DIR"] = "off"
 
 settings.register_profile("dev", max_examples=150, deadline=None)
 settings.register_profile("ci", max_examples=150, deadline=None, derandomize=True, print_blob=True)

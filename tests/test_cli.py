@@ -145,3 +145,17 @@ def test_exact_command_writes_the_optimum(tmp_path, capsys):
     assert best["lower"] == [-1, 1, 1, -1, 1, 0, 0, 0, 0, 0, 1]
     assert segments_length(best["segments"]) == pytest.approx(best["length"], rel=1e-9)
     assert (out / "path.png").stat().st_size > 10_000
+
+
+def test_compiled_programs_are_cached_on_disk_and_change_nothing(tmp_path):
+    env = {**os.environ, "JAX_PLATFORMS": "cpu", "HGA_JAX_CACHE_DIR": str(tmp_path / "cache")}
+    results, entries = [], []
+    for i in range(2):
+        out = tmp_path / f"r{i}"
+        subprocess.run([sys.executable, "-m", "hga_jax", "run", ROBOCUP, "--runs", "3",
+                        "--generations", "4", "--out", str(out), "--quiet", "--no-exact"],
+                       env=env, check=True, capture_output=True)
+        results.append(json.loads((out / "result.json").read_text()))
+        entries.append(sorted(p.name for p in (tmp_path / "cache").iterdir()))
+    assert entries[0] and entries[0] == entries[1]  # the second run found every program
+    assert results[0]["per_run"] == results[1]["per_run"]
