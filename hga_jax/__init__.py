@@ -18,12 +18,13 @@ from .path import Path, evaluate_path, from_chromosome
 from .plots import plot_convergence, plot_path, save_figure
 from .report import run_summary, write_run
 from .results import RunsResult
-from .runner import run_many, settings_for
+from .runner import enable_compilation_cache, run_many, settings_for
 from .scenario import Field, Scenario
 from .settings import GASettings
 
 __all__ = [
     "ConfigError", "Field", "GASettings", "Path", "RunsResult", "Scenario",
+    "enable_compilation_cache",
     "evaluate_path", "from_chromosome", "load_scenario", "plot_convergence", "plot_path",
     "run_many", "run_summary", "save_figure", "scenario_from_dict", "settings_for", "solve",
     "write_run",
