@@ -48,7 +48,7 @@ FIELD: Spec = {
 
 def _error(source: str, key: str, problem: str) -> ConfigError:
     """A :class:`ConfigError` with the one-line message ``source: key: problem``."""
-    return ConfigError(" ".join(f"{source}: {key}: {problem}".split()))
+    return ConfigError(" ".join(f"{source}: {key}: {problem}".splitlines()))
 
 
 def _value(v: Any, kind: str, source: str, key: str) -> Any:

@@ -2,9 +2,10 @@
 
 Host code on matplotlib's object API (``matplotlib.figure.Figure``, no pyplot),
 so it runs headless and the figures display in notebooks. Artists carry a
-``gid`` ("field", "obstacle", "model_circle", "turning_circle", "start",
-"goal", "arc", "line", "touched", "best_median", "mean_median", "optimum",
-...) so callers and tests can find them.
+``gid`` ("field", "field_inner", "obstacle", "model_circle", "turning_circle",
+"start", "start_arrow", "goal", "goal_arrow", "arc", "line", "touched",
+"best_median", "best_band", "mean_median", "optimum", "length_median",
+"optimum_length") so callers and tests can find them.
 """
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Circle, Rectangle
+from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 
 from .scenario import Scenario
 
@@ -31,13 +32,15 @@ def arc_points(center: Sequence[float], radius: float, start_angle: float, sweep
     return np.asarray(center, float) + radius * np.stack([np.cos(t), np.sin(t)], axis=1)
 
 
-def _pose(ax: Axes, pose: Sequence[float], rho: float, colour: str, name: str, span: float) -> np.ndarray:
+def _pose(ax: Axes, pose: Sequence[float], rho: float, colour: str, name: str,
+          span: float) -> np.ndarray:
     """Draw a pose arrow and its two turning circles; return the circles' bbox corners."""
     x, y, th = (float(v) for v in pose)
     ax.plot([x], [y], "o", color=colour, ms=5, zorder=6, gid=name, label=name)
-    tip = (x + 0.07 * span * np.cos(th), y + 0.07 * span * np.sin(th))
-    ax.annotate("", xy=tip, xytext=(x, y), zorder=6,
-                arrowprops=dict(arrowstyle="-|>", color=colour, lw=1.8, mutation_scale=14))
+    size = max(0.07 * span, 0.6 * rho)
+    tip = (x + size * np.cos(th), y + size * np.sin(th))
+    ax.add_patch(FancyArrowPatch((x, y), tip, arrowstyle="-|>", mutation_scale=14, lw=1.8,
+                                 color=colour, shrinkA=0, shrinkB=0, zorder=6, gid=name + "_arrow"))
     ends = []
     for s in (-1.0, 1.0):  # left/CCW, right/CW centres (MODEL.md)
         c = (x - s * rho * np.sin(th), y + s * rho * np.cos(th))
@@ -70,7 +73,7 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
         if f.keep_inside:
             ax.add_patch(Rectangle((f.xmin + r, f.ymin + r), f.xmax - f.xmin - 2 * r,
                                    f.ymax - f.ymin - 2 * r, fill=False, ec="0.4", lw=0.8,
-                                   ls="--", gid="field_inner"))
+                                   ls="-.", gid="field_inner"))
         pts.append(np.asarray([[f.xmin, f.ymin], [f.xmax, f.ymax]]))
     touch = {int(i): int(s) for i, s in touched}
     for i, (c, ri, Ri) in enumerate(zip(centres, radii, model)):
@@ -78,11 +81,11 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
         ax.add_patch(Circle(c, ri, fc="0.86", ec="0.55", lw=0.8, zorder=2, gid="obstacle"))
         ax.add_patch(Circle(c, Ri, fill=False, ls="-" if hit else "--", lw=2.0 if hit else 0.8,
                             ec=C_TOUCH if hit else "0.45", zorder=3, gid="model_circle"))
-        ax.text(c[0], c[1], str(i + 1), ha="center", va="center", fontsize=8, zorder=4)
-        if hit:
-            ax.text(c[0] + 0.72 * Ri, c[1] + 0.72 * Ri, "CW" if touch[i] > 0 else "CCW",
-                    color=C_TOUCH, fontsize=7, fontweight="bold", ha="left", va="bottom",
-                    zorder=7, gid="touched")
+        ax.text(c[0], c[1], str(i + 1), ha="center", va="center", fontsize=8, zorder=4,
+                color=C_TOUCH if hit else "black", fontweight="bold" if hit else "normal")
+        if hit:  # tag in the ring between body and model circle, which the path never enters
+            ax.text(c[0], c[1] - 0.5 * (ri + Ri), "CW" if touch[i] > 0 else "CCW", color=C_TOUCH,
+                    fontsize=6, fontweight="bold", ha="center", va="center", zorder=7, gid="touched")
         pts.append(np.asarray([c - Ri, c + Ri]))
     span0 = np.ptp(np.concatenate(pts), axis=0).max() if len(pts) > 1 else 1.0
     span = float(span0) if span0 > 0 else 1.0
@@ -100,7 +103,7 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
         else:
             raise ValueError(f"unknown segment type {seg['type']!r}")
         kind = seg["type"]
-        label = ("path arc" if kind == "arc" else "path line") if kind not in kinds_seen else "_nolegend_"
+        label = "_nolegend_" if kind in kinds_seen else f"path {kind}"
         kinds_seen.add(kind)
         ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind, label=label, **style)
         pts.append(xy)
@@ -118,6 +121,10 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
                Line2D([], [], ls=":", color="0.3", lw=0.8, label=r"turning circles ($\rho$)")]
     if touch:
         handles.append(Line2D([], [], color=C_TOUCH, lw=2.0, label="touched (CW/CCW)"))
+    if f is not None:
+        handles.append(Line2D([], [], color="black", lw=1.2, label="field"))
+        if f.keep_inside:
+            handles.append(Line2D([], [], color="0.4", lw=0.8, ls="-.", label="field shrunk by r"))
     h, _ = ax.get_legend_handles_labels()
     ax.legend(handles=h + handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
               fontsize=8, frameon=False)
@@ -182,5 +189,5 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 140) -> Path:
     """Write ``fig`` as PNG to ``path`` (parents created); return the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi, format="png")
+    fig.savefig(path, dpi=dpi, format="png", bbox_inches="tight", pad_inches=0.05)
     return path

@@ -43,6 +43,48 @@ def test_path_artists_follow_the_segments(scene, tmp_path):
     assert out.stat().st_size > 10_000
 
 
+def test_hand_computed_path(tmp_path):
+    """Start north at (0,0), CW quarter to (1,1), line to (3,1), CW quarter down to (4,0)."""
+    sc = Scenario("hand", 0.1, 1.0, (0.0, 0.0, math.pi / 2), (4.0, 0.0, -math.pi / 2),
+                  np.array([[2.0, -0.6], [5.0, 3.0], [-1.0, 2.0]]), np.full(3, 0.1), None)
+    segs = [{"type": "arc", "center": [1.0, 0.0], "radius": 1.0, "start_angle": math.pi,
+             "sweep": -math.pi / 2},
+            {"type": "line", "start": [1.0, 1.0], "end": [3.0, 1.0]},
+            {"type": "arc", "center": [3.0, 0.0], "radius": 1.0, "start_angle": math.pi / 2,
+             "sweep": -math.pi / 2}]
+    fig = plot_path(sc, segs, touched=[(1, -1)], title="length 5.142 m, feasible")
+    ax = fig.axes[0]
+    (a1, a2), (line,) = _by_gid(ax, "arc"), _by_gid(ax, "line")
+    xy1, xy2 = np.c_[a1.get_data()], np.c_[a2.get_data()]
+    assert np.allclose(xy1[[0, -1]], [[0, 0], [1, 1]], atol=1e-9, rtol=0)
+    assert np.allclose(xy2[[0, -1]], [[3, 1], [4, 0]], atol=1e-9, rtol=0)
+    assert np.allclose(np.hypot(xy1[:, 0] - 1, xy1[:, 1]), 1.0) and len(xy1) > 10
+    assert np.all(xy1[:, 1] >= -1e-12) and np.all(xy2[:, 0] >= 3 - 1e-12)  # the short way round
+    assert np.array_equal(np.c_[line.get_data()], [[1, 1], [3, 1]])
+    assert len(_by_gid(ax, "obstacle")) == 3 and len(_by_gid(ax, "model_circle")) == 3
+    assert not _by_gid(ax, "field") and not _by_gid(ax, "field_inner")
+    assert [t.get_text() for t in _by_gid(ax, "touched")] == ["CCW"]
+    assert ax.get_title() == "length 5.142 m, feasible"
+    labels = ax.get_legend_handles_labels()[1]
+    assert labels.count("path arc") == 1 and labels.count("path line") == 1
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    assert x0 < -1.0 and x1 > 5.0 and y0 < -1.0 and y1 > 3.0  # goal circle, obstacles in view
+    assert save_figure(fig, tmp_path / "hand.png").stat().st_size > 10_000
+
+
+def test_plot_into_given_axes(scene):
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    a1, a2 = fig.subplots(1, 2)
+    assert plot_path(scene, [], ax=a2) is fig
+    assert a2.get_title() == "demo" and not a1.patches
+    assert len(_by_gid(a2, "field")) == 1 and len(_by_gid(a2, "field_inner")) == 1
+    with pytest.raises(ValueError):
+        plot_path(scene, [{"type": "spline"}])
+
+
 def test_scene_without_a_path(scene):
     ax = plot_path(scene, []).axes[0]
     assert not _by_gid(ax, "arc") and not _by_gid(ax, "line")
@@ -62,4 +104,18 @@ def test_convergence_medians_and_optimum(runs, tmp_path):
     assert np.allclose(_by_gid(ax, "mean_median")[0].get_ydata(), np.median(mean, axis=1))
     assert _by_gid(ax, "optimum")[0].get_ydata()[0] == 3100.0
     assert _by_gid(ax2, "optimum_length")[0].get_ydata()[0] == 2.2
+    band_y = np.concatenate([p.vertices[:, 1] for p in _by_gid(ax, "best_band")[0].get_paths()])
+    q1, q3 = np.percentile(best, [25, 75], axis=1)
+    assert band_y.min() == pytest.approx(q1.min()) and band_y.max() == pytest.approx(q3.max())
+    if runs == 1:  # the band collapses onto the single run
+        assert np.allclose(q1, med) and np.allclose(q3, med)
     assert save_figure(fig, tmp_path / "c.png").stat().st_size > 10_000
+
+
+def test_convergence_single_panel():
+    best = np.linspace(1000, 2000, 11)[:, None]
+    fig = plot_convergence(best, best / 2, title="one run")
+    (ax,) = fig.axes
+    assert not _by_gid(ax, "optimum")
+    assert np.array_equal(_by_gid(ax, "best_median")[0].get_xdata(), np.arange(11))
+    assert fig._suptitle.get_text() == "one run"
