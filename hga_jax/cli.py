@@ -112,6 +112,14 @@ def _out_dir(args) -> str:
     return out
 
 
+def _cache(args) -> None:
+    """Keep compiled programs on disk unless ``--no-cache``."""
+    if not args.no_cache:
+        from .runner import enable_compilation_cache
+
+        enable_compilation_cache()
+
+
 def _cmd_run(args) -> int:
     scenario = load_scenario(args.scenario)
     settings = _settings(args, scenario)
@@ -122,11 +130,9 @@ def _cmd_run(args) -> int:
         if not low <= value < high:
             raise ConfigError(f"command line: {flag}: must be in {low}..{high - 1}, got {value}")
     out = _out_dir(args)
+    _cache(args)
     from . import report
-    from .runner import enable_compilation_cache, run_many
-
-    if not args.no_cache:
-        enable_compilation_cache()
+    from .runner import run_many
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet)
@@ -142,12 +148,9 @@ def _cmd_exact(args) -> int:
 
     collision = args.collision or settings_for(scenario).collision
     out = _out_dir(args)
+    _cache(args)
     from . import report
     from .exact import solve
-    from .runner import enable_compilation_cache
-
-    if not args.no_cache:
-        enable_compilation_cache()
 
     opt = solve(scenario, collision)
     print(report.exact_summary(scenario, opt))

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from .fitness import fitness_of, length_of_fitness
-from .results import RunsResult, _finite, write_csv, write_json
+from .results import RunsResult, result_document, write_csv, write_json
 from .scenario import Scenario
 
 
@@ -105,15 +105,9 @@ def write_run(res: RunsResult, out: str, plot: bool = False) -> list[str]:
 
 def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
     """result.json of ``hga-jax exact``: the run schema with the optimum as best path."""
-    from . import __version__
-    import jax
-
     path = opt.path.to_dict() if opt.feasible and opt.path is not None else None
-    return _finite({
-        "scenario_name": scenario.name,
-        "scenario": {"name": scenario.name, "source": scenario.source, "obstacles": scenario.n},
+    return result_document(scenario, {
         "seed": None, "runs": None, "settings": {"collision": opt.collision},
-        "versions": {"hga_jax": __version__, "jax": jax.__version__, "numpy": np.__version__},
         "best": path, "optimum": opt.to_dict(),
         "summary": {"optimum_length": opt.length if opt.feasible else None,
                     "seconds": opt.seconds},

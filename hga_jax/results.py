@@ -118,7 +118,6 @@ class RunsResult:
 
     def to_dict(self) -> dict[str, Any]:
         """result.json (MODEL.md's contract plus run statistics)."""
-        import jax
 
         near = self.first_generation_within(NEAR_GAP)
         per_run = []
@@ -133,17 +132,10 @@ class RunsResult:
                 "generation_hit": int(self.generation_hit[i]),
                 "upper": upper, "lower": lower,
             })
-        from . import __version__
-
-        return _finite({
-            "scenario_name": self.scenario.name,
-            "scenario": {"name": self.scenario.name, "source": self.scenario.source,
-                         "obstacles": self.scenario.n},
+        return result_document(self.scenario, {
             "seed": self.seed,
             "runs": [int(self.run_ids[0]), int(self.run_ids[-1])],
             "settings": asdict(self.settings),
-            "versions": {"hga_jax": __version__, "jax": jax.__version__,
-                         "numpy": np.__version__, "python": platform.python_version()},
             "best": {"run": self.best_run, **self.best.to_dict()},
             "optimum": self.optimum.to_dict() if self.optimum is not None else None,
             "summary": self.summary(),
@@ -177,12 +169,27 @@ def _median(values: np.ndarray) -> float | None:
     return float(np.median(values)) if len(values) else None
 
 
-def _finite(obj: Any) -> Any:
+def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
+    """A JSON-safe result.json: the scenario and version header, then ``body``."""
+    import jax
+
+    from . import __version__
+
+    return json_safe({
+        "scenario_name": scenario.name,
+        "scenario": {"name": scenario.name, "source": scenario.source, "obstacles": scenario.n},
+        "versions": {"hga_jax": __version__, "jax": jax.__version__, "numpy": np.__version__,
+                     "python": platform.python_version()},
+        **body,
+    })
+
+
+def json_safe(obj: Any) -> Any:
     """JSON-safe copy: numpy scalars to Python, non-finite floats to None."""
     if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
+        return {k: json_safe(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
+        return [json_safe(v) for v in obj]
     if isinstance(obj, (np.integer,)):
         return int(obj)
     if isinstance(obj, (float, np.floating)):
