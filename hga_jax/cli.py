@@ -16,7 +16,7 @@ from typing import Sequence
 
 from . import __version__
 from .config import load_scenario
-from .errors import ConfigError
+from .errors import ConfigError, ModelMismatchError
 from .settings import (COLLISIONS, PERM_CROSSOVERS, PERM_MUTATIONS, PRECISIONS, SELECTIONS,
                        GASettings)
 
@@ -181,6 +181,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         where = f"{e.filename}: " if e.filename else ""
         print(f"hga-jax: error: {where}{e.strerror or e}", file=sys.stderr)
         return 1
+    except ModelMismatchError as e:
+        print(f"hga-jax: internal error: {e} (please report this scenario)", file=sys.stderr)
+        return 3
     except KeyboardInterrupt:
         print("hga-jax: interrupted", file=sys.stderr)
         return 130

@@ -19,7 +19,9 @@ Each piece is judged by the decoder's functions (:mod:`hga_jax.geometry`, float6
 tolerances): segments against every obstacle, arcs against every obstacle but their
 own circle (``"full"`` mode only), the field box in both modes. So a walk touching
 each obstacle at most once is feasible iff the chromosome listing its circles decodes
-without violation, with the same length. Search: A* bounded by the straight-line
+without violation, with the same length; :func:`solve` checks this on every
+path it returns and raises :class:`~hga_jax.errors.ModelMismatchError` where it
+fails (a bug, never a feasible answer). Search: A* bounded by the straight-line
 distance to the goal point. A walk touching one obstacle twice has no chromosome; a
 label-setting search with the visited obstacles in its state then gives the best
 chromosome-expressible path. Coincident circles other than a start and a goal circle
@@ -36,6 +38,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from . import geometry as g
+from .errors import ModelMismatchError
 from .path import Path, chromosome, evaluate_path
 from .scenario import Scenario
 
@@ -283,13 +286,20 @@ def _chromosome(n: int, circs: list[int], circles) -> tuple[list[int], list[int]
     return perm, labels + [0] * (n - len(seen)) + [int(sg[circs[-1]])]
 
 
-def _disagreement(path: Path | None, walk_length: float) -> str:
-    """A note when the decoder's float64 figures differ from the graph's (a model mismatch)."""
+def _check_agreement(scenario: Scenario, path: Path | None, walk_length: float) -> None:
+    """Raise :class:`ModelMismatchError` unless the decoder's float64 figures of ``path``
+    match the graph's walk: no violation and the same length (to 1e-9, relative).
+
+    The graph and the decoder judge every piece with the same functions, so a
+    mismatch is a bug in hga-jax; it is never reported as a feasible optimum.
+    """
     if path is None or (not path.violations
                         and abs(path.length - walk_length) <= 1e-9 * max(1.0, walk_length)):
-        return ""
-    return (f"; decoder disagrees: length {path.length!r} vs walk {walk_length!r}, "
-            f"{path.violations} violations")
+        return
+    raise ModelMismatchError(
+        f"{scenario.source}: the exact solver's walk (length {walk_length!r}) decodes to "
+        f"length {path.length!r} with {path.violations} violation(s), chromosome upper "
+        f"{path.upper} lower {path.lower}")
 
 
 def solve(scenario: Scenario, collision: str = "full") -> ExactResult:
@@ -321,12 +331,12 @@ def solve(scenario: Scenario, collision: str = "full") -> ExactResult:
                    + ("best_expressible is the best chromosome path" if best else
                       "no chromosome expresses a feasible path" if complete else
                       f"label budget ({MAX_LABELS}) ran out: best_expressible unknown"))
-        message += _disagreement(best, best_length)
+        _check_agreement(scenario, best, best_length)
     else:
         perm, labels = _chromosome(scenario.n, circs, gr.circles)
         path = best = evaluate_path(scenario, perm, labels, collision)
         upper, lower = chromosome(perm, labels)
         segs, length = path.segments, path.length
-        message += _disagreement(path, walk_length)
+        _check_agreement(scenario, path, walk_length)
     return ExactResult(length, True, collision, walk_length, expressible, upper, lower, touched,
                        path, best, segs, spent, message)
