@@ -163,6 +163,35 @@ def test_solver_raises_when_the_decoder_disagrees(monkeypatch):
         solve(scenario_from_dict(TOUCH))
 
 
+def all_chromosomes(n):
+    """Every (perm, labels) of ``n`` obstacles (brute force for small n)."""
+    import itertools
+
+    perms, labels = [], []
+    for p in itertools.permutations(range(n)):
+        for lab in itertools.product((-1, 1), *([(-1, 0, 1)] * n), (-1, 1)):
+            perms.append(p)
+            labels.append(lab)
+    return np.asarray(perms, np.int32).reshape(len(labels), n), np.asarray(labels, np.int32)
+
+
+@pytest.mark.parametrize("collision", ["full", "paper"])
+@pytest.mark.parametrize("scene", [UTURN, GRID_FIELD, WALL, TOUCH, ON_CIRCLE, PAPER_END],
+                         ids=["uturn", "grid-field", "wall", "touch", "on-circle", "paper-end"])
+def test_exact_optimum_of_each_defect_scene_is_the_brute_force_minimum(scene, collision):
+    sc = scenario_from_dict(scene)
+    perm, labels = all_chromosomes(sc.n)
+    d = decoded(sc, perm, labels, np.float64, collision)
+    ok = d.violations == 0
+    opt = solve(sc, collision)  # raises ModelMismatchError if graph and decoder disagree
+    assert opt.feasible == bool(ok.any())
+    if ok.any() and opt.expressible:
+        assert opt.length == pytest.approx(d.length[ok].min(), rel=1e-12)
+    if collision == "full" and ok.any():
+        gaps = clearance(sc.arrays(np.float64), d)
+        assert min(gaps[0][ok].min(), gaps[1][ok].min()) >= CLEAR
+
+
 # --- the primitives at their edges -----------------------------------------------------------
 
 
