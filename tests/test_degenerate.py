@@ -317,7 +317,7 @@ def test_exact_solver_paths_decode_without_violation_in_both_modes(family):
 @pytest.mark.slow
 def test_deep_no_false_feasibility_over_a_million_chromosomes():
     rng = np.random.default_rng(2026)
-    total = feasible = false_feasible = meta_bad = beaten = 0
+    total = feasible = false_feasible = meta_bad = beaten = false32 = 0
     worst = np.inf
     per_family = {}
     for family in ("grid", "overlapping", "degenerate"):
@@ -331,6 +331,8 @@ def test_deep_no_false_feasibility_over_a_million_chromosomes():
             gap = np.minimum(obstacle_gap, field_gap)[ok]
             worst = min(worst, gap.min(initial=np.inf))
             false_feasible += int((gap < CLEAR).sum())
+            d32 = decoded(sc, perm, labels, np.float32)
+            false32 += int(((d32.violations == 0) & (np.minimum(obstacle_gap, field_gap) < -1e-4)).sum())
             feasible += int(ok.sum())
             total += len(ok)
             count += len(ok)
@@ -343,6 +345,7 @@ def test_deep_no_false_feasibility_over_a_million_chromosomes():
     print(f"\ndeep degenerate run: {total} chromosomes {per_family}, {feasible} feasible in float64, "
           f"{false_feasible} false feasible (sampled clearance below {CLEAR} m), worst clearance of a "
           f"feasible path {worst:.3g} m, {meta_bad} metamorphic mismatches, {beaten} scenes where a "
-          "random chromosome beat the exact optimum")
+          "random chromosome beat the exact optimum; float32: "
+          f"{false32} paths called feasible that enter a circle or leave the field by over 0.1 mm")
     assert total >= 1_000_000
     assert false_feasible == 0 and meta_bad == 0 and beaten == 0
