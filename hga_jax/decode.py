@@ -7,10 +7,12 @@ A chromosome (MODEL.md, paper 3.3) is stored as
   position, goal; ``+1`` CW, ``-1`` CCW, ``0`` not touched.
 
 ``decode_batch`` works on a batch ``(B, n)`` / ``(B, n + 2)`` with fixed shapes:
-the touched circles are compacted to the front of a slot axis (a one-hot
-gather, no Python loop over genes), then a ``lax.scan`` over the ``n + 1``
-possible legs does tangent, arc and collision work with the batch axis innermost
-(the layout XLA vectorises well), masking legs past the last touched circle.
+the ids of the path's oriented circles are compacted to the front of a slot axis
+(log-step shifts, no Python loop over genes), then a ``lax.scan`` over the
+``n + 1`` possible legs looks each tangent up in the scenario's tangent table
+(:mod:`hga_jax.tangents`: touch points, length and segment violations, computed
+once per scenario) and does the arc work, with the batch axis innermost (the
+layout XLA vectorises well), masking legs past the last touched circle.
 
 Violations (``collision = "full"``): each (segment, obstacle) and (arc, obstacle)
 pair closer than the model radius by more than the tolerance (an arc never
@@ -54,36 +56,20 @@ class Decoded(NamedTuple):
     lines: Any
 
 
-def _path_circles(sa: ScenarioArrays, perm, labels):
-    """The circles of the path, compacted to the front of a slot axis.
+def _path_circles(perm, labels):
+    """The oriented circles of the path (ids of :mod:`hga_jax.tangents`), compacted.
 
-    Returns ``count`` (B,) and (S, B) arrays ``cx, cy, r, sign, id`` (S = n + 2):
-    slot 0 is the start circle, slots 1..count-2 the touched obstacles in order,
-    slot count-1 the goal circle; ``id`` is the obstacle index or -1. Only the
-    labels and obstacle indices are compacted; the circles are looked up after.
+    Returns ``count`` (B,) and ``ids`` (S, B) (S = n + 2): slot 0 is the start
+    circle, slots 1..count-2 the touched obstacles in order, slot count-1 the goal
+    circle. Only the circle ids are compacted; the circles are looked up after.
     """
-    batch = labels.shape[0]
-    none = jnp.full((1, batch), -1, jnp.int32)
-    oid = jnp.concatenate([none, perm.T.astype(jnp.int32), none])  # (S, B)
-    lab = labels.T.astype(jnp.int32)
-    count, (sign, oid) = _compact(lab != 0, lab, oid)
-    sign = sign.astype(sa.centres.dtype)
-    slot = jnp.arange(lab.shape[0])[:, None]
-    is_start, is_goal = slot == 0, slot == (count - 1)[None]
-    # Obstacle tables with one extra row for id -1 (start and goal; also when n = 0).
-    n = sa.centres.shape[0]
-    safe = jnp.where(oid >= 0, oid, n)
-    ox = jnp.append(sa.centres[:, 0], 0.0)
-    oy = jnp.append(sa.centres[:, 1], 0.0)
-    orad = jnp.append(sa.model_radii, sa.rho)
-    scx, scy = g.turning_circle(sa.start[0], sa.start[1], sa.start[2], sa.rho, sign[0])
-    last_sign = jnp.take_along_axis(sign, (count - 1)[None], axis=0)[0]
-    gcx, gcy = g.turning_circle(sa.goal[0], sa.goal[1], sa.goal[2], sa.rho, last_sign)
-    cx = jnp.where(is_start, scx[None], jnp.where(is_goal, gcx[None], ox[safe]))
-    cy = jnp.where(is_start, scy[None], jnp.where(is_goal, gcy[None], oy[safe]))
-    r = jnp.where(is_start | is_goal, sa.rho, orad[safe])
-    oid = jnp.where(is_start | is_goal, -1, oid)
-    return count, (cx, cy, r, sign, oid)
+    n = perm.shape[1]
+    lab = labels.T.astype(jnp.int32)  # (S, B)
+    side = (1 + lab) // 2  # 0 for CCW (-1), 1 for CW (+1)
+    obstacle_ids = 4 + 2 * perm.T.astype(jnp.int32) + (1 - side[1:n + 1])
+    ids = jnp.concatenate([side[:1], obstacle_ids, 2 + side[n + 1:]])
+    count, (ids,) = _compact(lab != 0, ids)
+    return count, ids
 
 
 def _compact(active, *columns):
@@ -114,23 +100,34 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
     """Decode ``perm`` (B, n) and ``labels`` (B, n + 2) against scenario ``sa``.
 
     Pure and jit/vmap-able; ``collision`` is static. The float dtype is the
-    scenario's (float32 for the search, float64 for exact re-evaluation).
+    scenario's (float32 for the search, float64 for exact re-evaluation). Each leg
+    looks its tangent up in ``sa.tangents``; each arc is tested against the
+    obstacles that can reach its circle (all of them, when that list is not short).
     """
     sa = jax.tree.map(jnp.asarray, sa)
+    tb = sa.tangents
     dt = sa.centres.dtype
     tol = g.tolerances(dt)
-    count, (cx, cy, r, sign, oid) = _path_circles(sa, perm, labels)
+    n, c = sa.centres.shape[0], tb.circles.shape[0]
+    count, ids = _path_circles(perm, labels)
+    cx, cy, r, sign = (tb.circles[:, i][ids] for i in range(4))
+    oid = tb.obstacle[ids]
     qx = sa.centres[:, 0][:, None]  # (n, 1) obstacle centres against (1, B) pieces
     qy = sa.centres[:, 1][:, None]
     qr = sa.model_radii[:, None]
-    own = jnp.arange(sa.centres.shape[0])[:, None]
+    own = jnp.arange(n)[:, None]
     bounds = sa.bounds
     full = collision == "full"
+    # One row of 8 values per ordered pair: one gather per leg (gathers are slow on
+    # the CPU, ~20-30 ns each, whatever their width; small integers are exact in floats).
+    table = jnp.stack([m.reshape(-1).astype(dt) for m in (
+        tb.p1x, tb.p1y, tb.p2x, tb.p2y, tb.length, tb.exists, tb.coincident,
+        tb.violations_full if full else tb.violations_paper)], axis=-1)
 
-    def arc_violations(c, a, b, swp):
-        (ccx, ccy, cr, cs, cid) = c
+    def arc_violations(circle, a, b, swp):
+        ccx, ccy, cr, cs, cid, _ = circle
         v = jnp.zeros(swp.shape, jnp.int32)
-        if full:
+        if full and n:
             hit = g.arc_hits(ccx, ccy, cr, a[0], a[1], b[0], b[1], swp, cs, qx, qy, qr, tol.length)
             v = v + jnp.sum(hit & (own != cid), axis=0, dtype=jnp.int32)
         out = g.arc_leaves_box(ccx, ccy, cr, a[0], a[1], b[0], b[1], swp, cs, bounds, tol.length)
@@ -138,36 +135,37 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
 
     def leg(carry, xs):
         ax, ay, length, viol = carry
-        c1, c2, real = xs
-        (c1x, c1y, c1r, c1s, _), (c2x, c2y, c2r, c2s, _) = c1, c2
-        fux, fuy = g.heading_on_circle(ax, ay, c1x, c1y, c1s)
-        t = g.tangent(c1x, c1y, c1r, c1s, c2x, c2y, c2r, c2s, fux, fuy, tol.eps)
-        swp = g.sweep(ax - c1x, ay - c1y, t.p1x - c1x, t.p1y - c1y, c1s, tol.angle)
-        v = arc_violations(c1, (ax, ay), (t.p1x, t.p1y), swp)
-        hits = (g.segment_hits if full else g.segment_hits_paper)(
-            t.p1x, t.p1y, t.p2x, t.p2y, qx, qy, qr, tol.length)
-        v = v + jnp.sum(hits, axis=0, dtype=jnp.int32) + (~t.exists).astype(jnp.int32)
-        v = v + g.segment_leaves_box(t.p1x, t.p1y, t.p2x, t.p2y, bounds, tol.length)
+        circle, nxt, real = xs
+        c1x, c1y, c1r, c1s, _, c1 = circle
+        row = table[c1 * c + nxt]  # (B, 8)
+        p1x, p1y, p2x, p2y, tlen = (row[:, i] for i in range(5))
+        exists, coincident, tviol = row[:, 5] > 0, row[:, 6] > 0, row[:, 7].astype(jnp.int32)
+        # Coincident circles: continue from the arrival point (the stand-in of a
+        # missing tangent between opposite orientations ends diametrically opposite).
+        p1x, p1y = jnp.where(coincident, ax, p1x), jnp.where(coincident, ay, p1y)
+        p2x = jnp.where(coincident, jnp.where(exists, ax, 2 * c1x - ax), p2x)
+        p2y = jnp.where(coincident, jnp.where(exists, ay, 2 * c1y - ay), p2y)
+        swp = g.sweep(ax - c1x, ay - c1y, p1x - c1x, p1y - c1y, c1s, tol.angle)
+        v = arc_violations(circle, (ax, ay), (p1x, p1y), swp) + tviol
         zero = jnp.zeros_like(swp)
         new = (
-            jnp.where(real, t.p2x, ax),
-            jnp.where(real, t.p2y, ay),
-            length + jnp.where(real, c1r * swp + t.length, zero),
+            jnp.where(real, p2x, ax),
+            jnp.where(real, p2y, ay),
+            length + jnp.where(real, c1r * swp + tlen, zero),
             viol + jnp.where(real, v, 0),
         )
-        arc = jnp.stack([ax, ay, t.p1x, t.p1y, jnp.where(real, swp, zero)])
-        line = jnp.stack([t.p1x, t.p1y, t.p2x, t.p2y, t.exists.astype(dt)])
+        arc = jnp.stack([ax, ay, p1x, p1y, jnp.where(real, swp, zero)])
+        line = jnp.stack([p1x, p1y, p2x, p2y, exists.astype(dt)])
         return new, (arc, line)
 
-    cols = (cx, cy, r, sign, oid)
+    cols = (cx, cy, r, sign, oid, ids)
     first = tuple(col[:-1] for col in cols)
-    second = tuple(col[1:] for col in cols)
     real = jnp.arange(cx.shape[0] - 1)[:, None] < (count - 1)[None]
     batch = perm.shape[0]
     sx = jnp.broadcast_to(sa.start[0], (batch,)).astype(dt)
     sy = jnp.broadcast_to(sa.start[1], (batch,)).astype(dt)
     init = (sx, sy, jnp.zeros((batch,), dt), jnp.zeros((batch,), jnp.int32))
-    (ax, ay, length, viol), (arcs, lines) = jax.lax.scan(leg, init, (first, second, real))
+    (ax, ay, length, viol), (arcs, lines) = jax.lax.scan(leg, init, (first, ids[1:], real))
 
     # The goal arc: on the last circle, from the arrival point to the goal point.
     last = count - 1

@@ -108,20 +108,6 @@ class _Graph(NamedTuple):
     sweep: np.ndarray
 
 
-def _circles(sc: Scenario) -> tuple[np.ndarray, ...]:
-    """Oriented circles: 0, 1 start (-1, +1), 2, 3 goal (-1, +1), then obstacle i CW, CCW."""
-    lr, rho, n = np.array([-1.0, 1.0]), float(sc.min_turn_radius), sc.n
-    sx, sy = g.turning_circle(float(sc.start[0]), float(sc.start[1]), float(sc.start[2]), rho, lr)
-    gx, gy = g.turning_circle(float(sc.goal[0]), float(sc.goal[1]), float(sc.goal[2]), rho, lr)
-    cen = np.asarray(sc.centres, np.float64).reshape(n, 2)
-    x = np.concatenate([sx, gx, np.repeat(cen[:, 0], 2)])
-    y = np.concatenate([sy, gy, np.repeat(cen[:, 1], 2)])
-    r = np.concatenate([np.full(4, rho), np.repeat(np.asarray(sc.model_radii, np.float64), 2)])
-    sign = np.concatenate([lr, lr, np.tile([1.0, -1.0], n)])
-    obs = np.concatenate([np.full(4, -1), np.repeat(np.arange(n), 2)])
-    return x, y, r, sign, obs
-
-
 def _arc_ok(circ, c, ax, ay, bx, by, swp, sa, full: bool) -> np.ndarray:
     """Feasibility of arcs on circles ``c`` from A to B (decoder's arc criteria)."""
     x, y, r, s, obs = (a[c] for a in circ)
@@ -134,21 +120,20 @@ def _arc_ok(circ, c, ax, ay, bx, by, swp, sa, full: bool) -> np.ndarray:
     return ok
 
 
-def _tangents(circ, sa, full: bool):
-    """Every directed tangent (source, target) at once, and which are feasible edges."""
-    x, y, r, sg, obs = circ
-    nc = x.size
+def _tangents(sa, full: bool):
+    """Every directed tangent (source, target) from the scenario's tangent table, and
+    which are feasible edges: sources are start and obstacle circles, targets obstacle
+    and goal circles, never an obstacle to itself."""
+    tb = sa.tangents
+    obs, nc = tb.obstacle, tb.obstacle.size
     S, T = (a.ravel() for a in np.meshgrid(np.r_[0, 1, 4:nc], np.r_[4:nc, 2, 3], indexing="ij"))
-    keep = (obs[S] != obs[T]) | (obs[S] < 0)  # never an obstacle to itself
+    keep = (obs[S] != obs[T]) | (obs[S] < 0)
     S, T = S[keep], T[keep]
-    t = g.tangent(x[S], y[S], r[S], sg[S], x[T], y[T], r[T], sg[T], 1.0, 0.0, TOL.eps)
-    dx, dy = x[T] - x[S], y[T] - y[S]
-    coincident = np.sqrt(dx * dx + dy * dy) < TOL.eps
-    ok = t.exists & ~coincident & ~g.segment_leaves_box(
-        t.p1x, t.p1y, t.p2x, t.p2y, sa.bounds, TOL.length)
-    hits = g.segment_hits if full else g.segment_hits_paper
-    ok &= ~np.any(hits(t.p1x[:, None], t.p1y[:, None], t.p2x[:, None], t.p2y[:, None],
-                       sa.centres[:, 0], sa.centres[:, 1], sa.model_radii, TOL.length), axis=1)
+    t = g.Tangent(None, None, tb.length[S, T], tb.p1x[S, T], tb.p1y[S, T], tb.p2x[S, T],
+                  tb.p2y[S, T], tb.exists[S, T])
+    violations = (tb.violations_full if full else tb.violations_paper)[S, T]
+    coincident = tb.coincident[S, T]
+    ok = (violations == 0) & ~coincident
     direct = coincident & t.exists & (S < 2) & (T >= 2) & (T < 4)  # one start-goal circle
     return S, T, t, ok, direct
 
@@ -182,9 +167,9 @@ def _arc_pairs(circ, sa, nx, ny, ncirc) -> tuple[np.ndarray, np.ndarray]:
 
 def _build(sc: Scenario, collision: str) -> _Graph:
     """The tangent graph of ``sc`` with every infeasible piece left out."""
-    circ = x, y, r, sg, obs = _circles(sc)
     full, sa = collision == "full", sc.arrays(np.float64)
-    S, T, t, ok, direct = _tangents(circ, sa, full)
+    circ = x, y, r, sg, obs = (*sa.tangents.circles.T, sa.tangents.obstacle)
+    S, T, t, ok, direct = _tangents(sa, full)
     e = int(ok.sum())
     nx = np.concatenate([[sa.start[0]] * 2, [sa.goal[0]] * 2, t.p1x[ok], t.p2x[ok]])
     ny = np.concatenate([[sa.start[1]] * 2, [sa.goal[1]] * 2, t.p1y[ok], t.p2y[ok]])

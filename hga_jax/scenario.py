@@ -16,6 +16,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from . import tangents
+
 
 @dataclass(frozen=True)
 class Field:
@@ -43,6 +45,8 @@ class Scenario:
     field: Field | None = None
     ga: dict[str, Any] = dataclasses.field(default_factory=dict)  # raw [ga] table, checked by settings
     source: str = "<scenario>"  # file it came from, for messages
+    _arrays: dict[Any, "ScenarioArrays"] = dataclasses.field(
+        default_factory=dict, init=False, repr=False, compare=False)  # per dtype, built once
 
     @property
     def n(self) -> int:
@@ -61,21 +65,28 @@ class Scenario:
         return 2.0 * np.pi * max(big, self.min_turn_radius)
 
     def arrays(self, dtype: Any = np.float32) -> "ScenarioArrays":
-        """The scenario as a pytree of arrays for device code, in ``dtype``."""
+        """The scenario as a pytree of arrays for device code, in ``dtype``, with its
+        tangent table (built once per dtype; treat the arrays as read-only)."""
+        key = np.dtype(dtype)
+        if key not in self._arrays:
+            self._arrays[key] = self._build_arrays(key)
+        return self._arrays[key]
+
+    def _build_arrays(self, dtype: np.dtype) -> "ScenarioArrays":
         f = self.field
         if f is not None and f.keep_inside:
             r = self.robot_radius
             bounds = (f.xmin + r, f.xmax - r, f.ymin + r, f.ymax - r)
         else:
             bounds = (-np.inf, np.inf, -np.inf, np.inf)
+        start, goal = np.asarray(self.start, dtype), np.asarray(self.goal, dtype)
+        centres = np.asarray(self.centres, dtype).reshape(self.n, 2)
+        model_radii = np.asarray(self.model_radii, dtype).reshape(self.n)
+        rho, box = np.asarray(self.min_turn_radius, dtype), np.asarray(bounds, dtype)
         return ScenarioArrays(
-            start=np.asarray(self.start, dtype),
-            goal=np.asarray(self.goal, dtype),
-            centres=np.asarray(self.centres, dtype).reshape(self.n, 2),
-            model_radii=np.asarray(self.model_radii, dtype).reshape(self.n),
-            rho=np.asarray(self.min_turn_radius, dtype),
-            bounds=np.asarray(bounds, dtype),
-            delta=np.asarray(self.delta, dtype),
+            start=start, goal=goal, centres=centres, model_radii=model_radii, rho=rho,
+            bounds=box, delta=np.asarray(self.delta, dtype),
+            tangents=tangents.build(start, goal, centres, model_radii, rho, box),
         )
 
 
@@ -88,6 +99,7 @@ class ScenarioArrays(NamedTuple):
     bounds: (4,) ``xmin, xmax, ymin, ymax`` that path points must stay within
     (already shrunk by the robot radius; infinite when the field is not kept).
     delta: () penalty length per violation (m).
+    tangents: the :class:`~hga_jax.tangents.TangentTable` of the scenario.
     """
 
     start: Any
@@ -97,3 +109,4 @@ class ScenarioArrays(NamedTuple):
     rho: Any
     bounds: Any
     delta: Any
+    tangents: Any

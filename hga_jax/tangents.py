@@ -1,0 +1,95 @@
+"""The tangent table of a scenario: every directed tangent between its oriented circles, judged once.
+
+Oriented circles are numbered the same way everywhere (decoder, exact solver):
+``0`` start CCW (``-1``), ``1`` start CW (``+1``), ``2`` goal CCW, ``3`` goal CW, then
+``4 + 2i`` obstacle ``i`` CW and ``5 + 2i`` obstacle ``i`` CCW; ``C = 2n + 4`` circles.
+A label ``l`` on a start, goal or obstacle position picks circle ``(1 + l) // 2``,
+``2 + (1 + l) // 2`` or ``4 + 2i + (1 - l) // 2``.
+
+A tangent depends only on its two circles, so its touch points, its length and its
+violations (the segment against every obstacle, by the full or the paper criterion;
+the field; a missing tangent) are computed here once per scenario, on the host, with
+the functions of :mod:`hga_jax.geometry` in the scenario's float dtype. Decoding a
+leg is then a lookup; only the arcs depend on the chromosome. Coincident circles (a
+start and a goal circle on the same turning circle) have no fixed tangent: the
+decoder continues along the circle from where the path arrived, and their entry
+counts only a missing tangent (opposite orientations), no segment.
+
+Units: metres. Host code (numpy), called by :meth:`hga_jax.scenario.Scenario.arrays`.
+"""
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from . import geometry as g
+
+
+class TangentTable(NamedTuple):
+    """Per ordered pair ``(a, b)`` of oriented circles, arrays shaped ``(C, C)``.
+
+    circles: ``(C, 4)`` ``x, y, r, sign``. obstacle: ``(C,)`` obstacle index, -1 for
+    start and goal circles. p1x, p1y, p2x, p2y: touch points on ``a`` and ``b``
+    (the stand-in's for a missing tangent). length: ``|P2 - P1|`` (m). exists: the
+    tangent exists. coincident: the two centres coincide. violations_full,
+    violations_paper: the tangent's violations under each criterion (segment
+    against every obstacle, field exit, missing tangent).
+    """
+
+    circles: Any
+    obstacle: Any
+    p1x: Any
+    p1y: Any
+    p2x: Any
+    p2y: Any
+    length: Any
+    exists: Any
+    coincident: Any
+    violations_full: Any
+    violations_paper: Any
+
+
+def oriented_circles(start, goal, centres, model_radii, rho) -> tuple[np.ndarray, ...]:
+    """``(x, y, r, sign, obstacle)`` of the ``C = 2n + 4`` oriented circles (numpy)."""
+    dt = np.asarray(centres).dtype
+    lr = np.array([-1.0, 1.0], dt)
+    n = np.asarray(centres).shape[0]
+    sx, sy = g.turning_circle(start[0], start[1], start[2], rho, lr)
+    gx, gy = g.turning_circle(goal[0], goal[1], goal[2], rho, lr)
+    x = np.concatenate([sx, gx, np.repeat(centres[:, 0], 2)]).astype(dt)
+    y = np.concatenate([sy, gy, np.repeat(centres[:, 1], 2)]).astype(dt)
+    r = np.concatenate([np.full(4, rho, dt), np.repeat(model_radii, 2)]).astype(dt)
+    sign = np.concatenate([lr, lr, np.tile(np.array([1.0, -1.0], dt), n)])
+    obstacle = np.concatenate([np.full(4, -1), np.repeat(np.arange(n), 2)]).astype(np.int32)
+    return x, y, r, sign, obstacle
+
+
+def build(start, goal, centres, model_radii, rho, bounds) -> TangentTable:
+    """The table of a scenario given as numpy arrays of one float dtype (see module doc)."""
+    dt = np.asarray(centres).dtype
+    tol = g.tolerances(dt)
+    x, y, r, sign, obstacle = oriented_circles(start, goal, centres, model_radii, rho)
+    c = x.size
+    a, b = (m.ravel() for m in np.meshgrid(np.arange(c), np.arange(c), indexing="ij"))
+    one, zero = np.ones(a.size, dt), np.zeros(a.size, dt)
+    t = g.tangent(x[a], y[a], r[a], sign[a], x[b], y[b], r[b], sign[b], one, zero, tol.eps)
+    dx, dy = x[b] - x[a], y[b] - y[a]
+    coincident = np.sqrt(dx * dx + dy * dy) < tol.eps
+    missing = (~t.exists).astype(np.int32)
+    out = g.segment_leaves_box(t.p1x, t.p1y, t.p2x, t.p2y, bounds, tol.length).astype(np.int32)
+    seg = (t.p1x[:, None], t.p1y[:, None], t.p2x[:, None], t.p2y[:, None],
+           centres[:, 0], centres[:, 1], model_radii)
+    full = np.sum(g.segment_hits(*seg, tol.length), axis=1, dtype=np.int32)
+    paper = np.sum(g.segment_hits_paper(*seg, tol.length), axis=1, dtype=np.int32)
+    free = np.where(coincident, 0, 1).astype(np.int32)  # coincident: no segment, see module doc
+
+    def square(v):
+        return np.asarray(v).reshape(c, c)
+
+    return TangentTable(
+        circles=np.stack([x, y, r, sign], axis=1), obstacle=obstacle,
+        p1x=square(t.p1x), p1y=square(t.p1y), p2x=square(t.p2x), p2y=square(t.p2y),
+        length=square(t.length), exists=square(t.exists), coincident=square(coincident),
+        violations_full=square(missing + free * (out + full)),
+        violations_paper=square(missing + free * (out + paper)))
