@@ -349,3 +349,20 @@ def test_deep_no_false_feasibility_over_a_million_chromosomes():
           f"{false32} paths called feasible that enter a circle or leave the field by over 0.1 mm")
     assert total >= 1_000_000
     assert false_feasible == 0 and meta_bad == 0 and beaten == 0
+
+
+@pytest.mark.parametrize("scene", [TOUCH, ON_CIRCLE, UTURN], ids=["touch", "on-circle", "uturn"])
+def test_float32_search_reports_only_float64_truths(scene):
+    # The search runs in float32; every run's best is re-evaluated in float64, and what
+    # is called feasible keeps its clearance, near-tangent pieces included.
+    from hga_jax import GASettings, run_many
+
+    sc = scenario_from_dict(scene)
+    res = run_many(sc, GASettings(population=20, generations=10), seed=3, runs=64)
+    d = decoded(sc, res.perm, res.labels, np.float64)
+    np.testing.assert_array_equal(d.violations, res.violations)
+    obstacle_gap, field_gap = clearance(sc.arrays(np.float64), d)
+    ok = res.violations == 0
+    assert ok.any()
+    assert np.all(obstacle_gap[ok] >= CLEAR) and np.all(field_gap[ok] >= CLEAR)
+    assert res.best.feasible and res.best.length >= res.optimum.length - 1e-9
