@@ -7,7 +7,9 @@ Notebook use::
     res = hg.run_many(sc, runs=100, seed=1)
     print(hg.run_summary(res))
     hg.plot_path(sc, res.best.segments, touched=res.best.touched)
-    hg.write_run(res, "results/notebook", plot=True)  # result.json, history.csv, PNGs
+    hg.write_run(res, "results/notebook", plot=True, force=True)  # replaces an earlier result
+
+The model and the result files are defined in docs/model.md.
 """
 __version__ = "0.1.0"
 
