@@ -6,9 +6,9 @@ in float64 and turns its slots into the segment list of the result files
 precision the search used.
 
 Obstacles are *numbered* from 1 (the order of the scenario's ``[[obstacles]]``
-tables) in everything this module hands out (``touched``, ``upper``,
-``violations_at``); internal arrays (``perm``, ``scenario.centres``) are indexed
-from 0.
+tables) in what users read: ``upper``, ``violations_at`` and the result files'
+``touched``. Python-side indices into arrays (``perm``, ``scenario.centres``,
+``Path.touched`` and ``ExactResult.touched`` pairs) count from 0.
 """
 from __future__ import annotations
 
@@ -56,7 +56,9 @@ class Path:
     upper, lower: the chromosome (upper ``[0, ..., n+1]``, lower labels).
     segments: segment dicts of the result files in travel order (zero-length pieces
       left out).
-    touched: ``{"obstacle": number from 1, "label": +1 CW / -1 CCW}`` in travel order.
+    touched: ``(obstacle index from 0, label +1 CW / -1 CCW)`` pairs in travel order, as
+      in :class:`~hga_jax.exact.ExactResult`; ``to_dict`` writes them in the result
+      files' format, ``{"obstacle": number from 1, "label": ...}``.
     violations_at: one dict per violation: ``{"kind": "obstacle" | "missing tangent" |
       "field", "segment": index into segments (None for a zero-length piece),
       "obstacle": number from 1 (None unless kind is "obstacle")}``.
@@ -67,7 +69,7 @@ class Path:
     upper: list[int]
     lower: list[int]
     segments: list[dict[str, Any]] = field(default_factory=list)
-    touched: list[dict[str, int]] = field(default_factory=list)
+    touched: list[tuple[int, int]] = field(default_factory=list)
     violations_at: list[dict[str, Any]] = field(default_factory=list)
 
     @property
@@ -81,7 +83,7 @@ class Path:
             "violations": self.violations,
             "upper": self.upper,
             "lower": self.lower,
-            "touched": self.touched,
+            "touched": touch_list(self.touched),
             "segments": self.segments,
             "violations_at": self.violations_at,
         }
@@ -141,7 +143,7 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
                 segments.append({"type": "line", "start": [p1x, p1y], "end": [p2x, p2y]})
             where += locate.line((p1x, p1y, p2x, p2y), exists > 0.5,
                                  len(segments) - 1 if drawn else None)
-    touched = touch_list((int(d.obstacle[s]), int(d.circles[s][3])) for s in range(1, count - 1))
+    touched = [(int(d.obstacle[s]), int(d.circles[s][3])) for s in range(1, count - 1)]
     return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where)
 
 

@@ -62,17 +62,24 @@ def segment_points(seg: Mapping[str, Any]) -> np.ndarray:
     raise ValueError(f"unknown segment type {seg['type']!r}")
 
 
-def _touches(touched: Iterable[Mapping[str, int]], n: int) -> dict[int, int]:
-    """``touched`` items of the result files -> {obstacle index from 0: label}."""
+def _touches(touched: Iterable[Any], n: int) -> dict[int, int]:
+    """``touched`` -> {obstacle index from 0: label}.
+
+    Items are the result files' ``{"obstacle": number from 1, "label": +1 | -1}`` or
+    Python's ``(index from 0, label)`` pairs (``Path.touched``, ``ExactResult.touched``).
+    """
     out = {}
     for item in touched:
-        if not isinstance(item, Mapping) or set(item) != {"obstacle", "label"}:
-            raise TypeError("touched: items must be {'obstacle': number from 1, 'label': "
-                            f"+1 or -1}} as in result.json, got {item!r}")
-        k = int(item["obstacle"])
-        if not 1 <= k <= n:
-            raise ValueError(f"touched: obstacle must be in 1..{n}, got {k}")
-        out[k - 1] = int(item["label"])
+        if isinstance(item, Mapping) and set(item) == {"obstacle", "label"}:
+            k, label = int(item["obstacle"]) - 1, int(item["label"])
+        elif not isinstance(item, (Mapping, str)) and len(item) == 2:
+            k, label = int(item[0]), int(item[1])
+        else:
+            raise TypeError("touched: items must be {'obstacle': number from 1, 'label': +1 "
+                            f"or -1}} as in result.json, or (index from 0, label), got {item!r}")
+        if not 0 <= k < n:
+            raise ValueError(f"touched: obstacle must be in 1..{n}, got number {k + 1}")
+        out[k] = label
     return out
 
 
@@ -87,15 +94,16 @@ def _closest(xy: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
-              touched: Iterable[Mapping[str, int]] = (), title: str | None = None,
+              touched: Iterable[Any] = (), title: str | None = None,
               ax: Axes | None = None, optimum: Sequence[Mapping[str, Any]] | None = None,
               violations_at: Iterable[Mapping[str, Any]] = ()) -> Figure:
     """Draw the scene (field, obstacles, start and goal poses) and a path.
 
     ``segments``: travel-ordered arc/line dicts of the result-file format
     (docs/model.md); may be empty. ``touched``: the result files' items
-    ``{"obstacle": number from 1, "label": +1 CW / -1 CCW}`` (``Path.touched``, or
-    ``best["touched"]`` of a result.json), highlighted on the picture.
+    ``{"obstacle": number from 1, "label": +1 CW / -1 CCW}`` (``best["touched"]`` of
+    a result.json) or ``(index from 0, label)`` pairs (``Path.touched``), highlighted
+    on the picture.
     ``optimum``: another segment list (the exact optimum) drawn dashed over the
     path. ``violations_at``: ``Path.violations_at`` items; each offending piece is
     redrawn in red, each obstacle it meets gets a red model circle and a cross at

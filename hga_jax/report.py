@@ -16,6 +16,7 @@ import numpy as np
 from .errors import ConfigError
 from .fitness import fitness_of, length_of_fitness
 from .output import csv_writer, figure_writer, json_writer, write_result
+from .path import touch_list
 from .results import RunsResult, json_safe, optimum_dict, result_document
 from .scenario import Scenario
 from .settings import GASettings
@@ -34,10 +35,9 @@ def pct(x: float | None) -> str:
     return "n/a" if x is None else f"{100 * x:.2f}%"
 
 
-def touches(touched: list[dict[str, int]]) -> str:
-    """``"2CW 4CW 5CCW"`` from ``touched`` items (obstacles numbered from 1)."""
-    return " ".join(f"{t['obstacle']}{'CW' if t['label'] > 0 else 'CCW'}"
-                    for t in touched) or "no obstacle"
+def touches(touched: list[tuple[int, int]]) -> str:
+    """``"2CW 4CW 5CCW"`` (obstacles numbered from 1) from ``(index from 0, label)`` pairs."""
+    return " ".join(f"{i + 1}{'CW' if s > 0 else 'CCW'}" for i, s in touched) or "no obstacle"
 
 
 def operators(st: GASettings) -> str:
@@ -119,7 +119,7 @@ def run_json(res: RunsResult, written: list[str]) -> dict[str, Any]:
         "seed": res.seed, "settings": asdict(res.settings), "summary": res.summary(),
         "best": {"run": res.best_run, "length": res.best.length,
                  "feasible": res.best.feasible, "violations": res.best.violations,
-                 "touched": res.best.touched},
+                 "touched": touch_list(res.best.touched)},
         "written": written,
     })
 
@@ -131,9 +131,7 @@ def exact_summary(scenario: Scenario, opt: Any) -> str:
     took = f"solved in {1000 * opt.seconds:.1f} ms"
     if not opt.feasible:
         return head + f"no feasible path exists; {took}"
-    from .path import touch_list
-
-    text = head + f"optimum {opt.length:.6f} m touching {touches(touch_list(opt.touched))}, {took}"
+    text = head + f"optimum {opt.length:.6f} m touching {touches(opt.touched)}, {took}"
     if opt.expressible:
         text += f"\nchromosome: upper {_ints(opt.upper)}, lower {_ints(opt.lower)}"
     else:
@@ -224,10 +222,8 @@ def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False,
     if plot:
         from .plots import plot_path
 
-        from .path import touch_list
-
         if opt.feasible:
-            fig = plot_path(scenario, opt.segments, touched=touch_list(opt.touched),
+            fig = plot_path(scenario, opt.segments, touched=opt.touched,
                             title=path_title(scenario.name, "optimum", opt.length, 0,
                                              opt.collision))
         else:

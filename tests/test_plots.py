@@ -162,8 +162,11 @@ def test_optimum_overlay_and_touched_format(scene):
     other = evaluate_path(scene, [1, 0], [1, 0, 0, 1])
     ax = plot_path(scene, other.segments, optimum=path.segments, touched=path.touched).axes[0]
     assert len(_by_gid(ax, "optimum_path")) == len(path.segments)
-    assert path.touched == [{"obstacle": 1, "label": 1}]
+    assert path.touched == [(0, 1)] and path.to_dict()["touched"] == [{"obstacle": 1, "label": 1}]
+    for same in (path.touched, path.to_dict()["touched"]):  # Python's pairs, the file's items
+        ax = plot_path(scene, path.segments, touched=same).axes[0]
+        assert [t.get_text() for t in _by_gid(ax, "touched")] == ["CW"]
     with pytest.raises(TypeError, match="touched: items must be"):
-        plot_path(scene, [], touched=[(0, 1)])
-    with pytest.raises(ValueError, match=r"touched: obstacle must be in 1\.\.2, got 3"):
+        plot_path(scene, [], touched=["1CW"])
+    with pytest.raises(ValueError, match=r"touched: obstacle must be in 1\.\.2, got number 3"):
         plot_path(scene, [], touched=[{"obstacle": 3, "label": 1}])
