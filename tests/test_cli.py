@@ -166,6 +166,7 @@ def test_compiled_programs_are_cached_on_disk_and_change_nothing(tmp_path):
 
 SAME = GOOD.replace("x = 2.5\ny = 0.5\nheading_deg = 0", "x = 0.3\ny = 0.5\nheading_deg = 0")
 TINY = ["--runs", "3", "--generations", "3", "--population", "10", "--quiet"]
+QUICK = ["--runs", "2", "--generations", "0", "--population", "10", "--quiet"]  # one program
 
 
 def _run_cli(argv):
@@ -271,20 +272,20 @@ def test_results_of_exact_and_run_never_mix(tmp_path, monkeypatch, capsys):
     scen = os.path.abspath(_write(tmp_path, GOOD, "good.toml"))
     monkeypatch.chdir(tmp_path)
     assert main(["exact", scen, "--plot"]) == 0
-    assert main(["run", scen, *TINY, "--plot"]) == 0
+    assert main(["run", scen, *QUICK, "--plot"]) == 0
     assert sorted(os.listdir("results")) == ["good", "good-exact"]
     assert sorted(os.listdir("results/good-exact")) == ["path.png", "result.json"]
     assert sorted(os.listdir("results/good")) == ["convergence.png", "history.csv", "path.png",
                                                   "result.json"]
     capsys.readouterr()
     # --force without --plot: the earlier result's PNGs go with it
-    assert main(["run", scen, *TINY, "--seed", "1", "--force"]) == 0
+    assert main(["run", scen, *QUICK, "--seed", "1", "--force"]) == 0
     assert sorted(os.listdir("results/good")) == ["history.csv", "result.json"]
     # exact --force into a run's folder leaves no history.csv behind
     assert main(["exact", scen, "--out", "results/good", "--force"]) == 0
     assert os.listdir("results/good") == ["result.json"]
     # the API refuses as the command line does, and replaces with force=True
-    res = hg.run_many(hg.load_scenario(scen), hg.GASettings(population=10, generations=3), runs=2)
+    res = hg.run_many(hg.load_scenario(scen), hg.GASettings(population=10, generations=0), runs=2)
     with pytest.raises(hg.ConfigError, match="already holds a result"):
         hg.write_run(res, "results/good")
     assert hg.write_run(res, "results/good", force=True) == ["results/good/result.json",
