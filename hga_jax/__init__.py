@@ -7,12 +7,14 @@ Notebook use::
     res = hg.run_many(sc, runs=100, seed=1)
     print(hg.run_summary(res))
     hg.plot_path(sc, res.best.segments, touched=res.best.touched)
-    hg.write_run(res, "results/notebook", plot=True)  # result.json, history.csv, PNGs
+    hg.write_run(res, "results/notebook", plot=True, force=True)  # replaces an earlier result
+
+The model and the result files are defined in docs/model.md.
 """
 __version__ = "0.1.0"
 
 from .config import load_scenario, scenario_from_dict
-from .errors import ConfigError
+from .errors import ConfigError, Interrupted, ModelMismatchError
 from .exact import solve
 from .path import Path, evaluate_path, from_chromosome
 from .plots import plot_convergence, plot_path, save_figure
@@ -23,7 +25,8 @@ from .scenario import Field, Scenario
 from .settings import GASettings
 
 __all__ = [
-    "ConfigError", "Field", "GASettings", "Path", "RunsResult", "Scenario",
+    "ConfigError", "Field", "GASettings", "Interrupted", "ModelMismatchError", "Path",
+    "RunsResult", "Scenario",
     "enable_compilation_cache",
     "evaluate_path", "from_chromosome", "load_scenario", "plot_convergence", "plot_path",
     "run_many", "run_summary", "save_figure", "scenario_from_dict", "settings_for", "solve",

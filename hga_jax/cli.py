@@ -1,192 +1,351 @@
-"""The ``hga-jax`` command: ``run`` (many seeded GA runs), ``exact`` (the optimum), ``check``.
+"""The ``hga-jax`` command: ``run`` (many seeded GA runs), ``exact`` (the optimum),
+``check`` (validate files) and ``plot`` (redraw a result file).
 
 Settings are layered: the paper's defaults, the scenario's ``[ga]`` table, a
-``--ga`` TOML file (top-level keys are settings), then command-line flags.
-Bad input ends with one line ``hga-jax: error: <file>: <key>: <problem>`` and
-exit status 2, before anything is written; existing results are never
-overwritten without ``--force``.
+``--ga`` TOML file (top-level keys are settings), then command-line flags; an
+error names the source of each value it involves. Bad input ends with one line
+``hga-jax: error: <file>: <key>: <problem>`` and exit status 2, before anything
+is written. Result files are written before anything is printed, and a folder
+holds one result: an earlier result is only replaced with ``--force``.
+
+Exit status: 0 done (also when standard output was closed early, e.g. by
+``| head``); 1 an input/output error (standard output full, a file that cannot
+be written); 2 bad input; 3 an internal error (a bug: please report it); 130
+interrupted (Ctrl-C; nothing written).
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
+import dataclasses
+import errno
+import json
 import os
+import signal
 import sys
 import tomllib
-from typing import Sequence
+from typing import Any, Callable, Iterator, Sequence
 
 from . import __version__
 from .config import load_scenario
-from .errors import ConfigError, ModelMismatchError
+from .errors import ConfigError, Interrupted, ModelMismatchError
 from .settings import (COLLISIONS, PERM_CROSSOVERS, PERM_MUTATIONS, PRECISIONS, SELECTIONS,
                        GASettings)
 
 DEFAULT_SCENARIO = os.path.join("configs", "scenarios", "robocup_paper.toml")
+PAPER = GASettings()
+GA_FLAGS = {  # setting -> (type, choices, help)
+    "population": (int, None, "individuals per run"),
+    "generations": (int, None, "generations after the random initial one"),
+    "pc_upper": (float, None, "crossover probability per pair of parents, permutation"),
+    "pm_upper": (float, None, "mutation probability per individual, permutation"),
+    "pc_lower": (float, None, "crossover probability per pair of parents, labels"),
+    "pm_lower": (float, None, "mutation probability per gene, labels"),
+    "selection": (str, SELECTIONS, "parent selection"),
+    "tournament_size": (int, None, "tournament size (with --selection tournament)"),
+    "perm_crossover": (str, PERM_CROSSOVERS, "crossover of the permutation"),
+    "perm_mutation": (str, PERM_MUTATIONS, "mutation of the permutation"),
+    "elites": (int, None, "best individuals kept from one generation to the next"),
+    "collision": (str, COLLISIONS, "collision test: full, or the paper's Appendix B test"),
+    "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
+                  "float64 always)"),
+}
+
+
+class _Help(argparse.ArgumentDefaultsHelpFormatter):
+    """Shows ``(default: X)`` where there is a default to show (not None or False)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        if action.default is None or action.default is False or action.default == argparse.SUPPRESS:
+            return action.help or ""
+        return super()._get_help_string(action)
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="hga-jax", description=(
+    p = argparse.ArgumentParser(prog="hga-jax", formatter_class=_Help, description=(
         "Shortest Dubins-car paths among circular obstacles: hierarchical GA in JAX, "
         "compared with the model's exact optimum."))
     p.add_argument("--version", action="version", version=f"hga-jax {__version__}")
-    sub = p.add_subparsers(dest="command", required=True)
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    run = sub.add_parser("run", help="many seeded GA runs on a scenario")
-    run.add_argument("scenario", help="scenario TOML file (e.g. %s)" % DEFAULT_SCENARIO)
-    run.add_argument("--runs", type=int, default=1, help="number of runs (default 1)")
-    run.add_argument("--seed", type=int, default=0, help="seed; run k uses (seed, k)")
-    run.add_argument("--first-run", type=int, default=0, help="index of the first run")
-    run.add_argument("--ga", help="TOML file of GA settings (top-level keys)")
-    g = run.add_argument_group("GA settings (override the scenario and --ga)")
-    g.add_argument("--population", type=int)
-    g.add_argument("--generations", type=int)
-    g.add_argument("--pc-upper", type=float, help="crossover probability per pair, permutation")
-    g.add_argument("--pm-upper", type=float, help="mutation probability per individual, permutation")
-    g.add_argument("--pc-lower", type=float, help="crossover probability per pair, labels")
-    g.add_argument("--pm-lower", type=float, help="mutation probability per gene, labels")
-    g.add_argument("--selection", choices=SELECTIONS)
-    g.add_argument("--tournament-size", type=int)
-    g.add_argument("--perm-crossover", choices=PERM_CROSSOVERS)
-    g.add_argument("--perm-mutation", choices=PERM_MUTATIONS)
-    g.add_argument("--elites", type=int)
-    g.add_argument("--collision", choices=COLLISIONS)
-    g.add_argument("--precision", choices=PRECISIONS, help="float precision of the search")
-    run.add_argument("--chunk", type=int, help="runs per compiled batch (default ~50,000 "
-                     "chromosomes per batch)")
-    run.add_argument("--no-exact", action="store_true", help="skip the exact optimum and gaps")
-    _output_args(run)
+    run = sub.add_parser("run", help="many seeded GA runs on a scenario", formatter_class=_Help,
+                         description="Many seeded GA runs on a scenario, compared with the "
+                         "exact optimum; writes result.json and history.csv (and PNGs).")
+    run.add_argument("scenario", help=f"scenario TOML file, e.g. {DEFAULT_SCENARIO}")
+    run.add_argument("--runs", type=int, default=1, metavar="N", help="number of runs")
+    run.add_argument("--seed", type=int, default=0, metavar="S",
+                     help="seed (0..2**32-1); run k uses (seed, k)")
+    run.add_argument("--first-run", type=int, default=0, metavar="K",
+                     help="index of the first run")
+    run.add_argument("--ga", metavar="GA.toml",
+                     help="TOML file of GA settings (top-level keys), over the scenario's [ga]")
+    g = run.add_argument_group("GA settings", "override the scenario's [ga] table and --ga; "
+                               "unset flags keep those (the paper's value is shown)")
+    for key, (kind, choices, text) in GA_FLAGS.items():
+        g.add_argument("--" + key.replace("_", "-"), type=kind, choices=choices,
+                       metavar=None if choices else ("P" if kind is float else "N"),
+                       help=f"{text} (paper: {getattr(PAPER, key)})")
+    run.add_argument("--chunk", type=int, metavar="N", help="runs per compiled batch (default: "
+                     "about 50,000 chromosomes per batch, fewer if memory is short)")
+    run.add_argument("--no-exact", action="store_true",
+                     help="skip the exact optimum and the gaps to it")
+    _output_args(run, "results/<scenario file name>")
 
-    ex = sub.add_parser("exact", help="the model's exact optimum (tangent-graph shortest path)")
-    ex.add_argument("scenario")
-    ex.add_argument("--collision", choices=COLLISIONS, default=None)
-    _output_args(ex)
+    ex = sub.add_parser("exact", help="the model's exact optimum (tangent-graph shortest path)",
+                        formatter_class=_Help, description="The model's exact optimum: the "
+                        "shortest path in the tangent graph; writes result.json (and path.png).")
+    ex.add_argument("scenario", help="scenario TOML file")
+    ex.add_argument("--collision", choices=COLLISIONS,
+                    help="collision test (default: the scenario's [ga] collision, else full)")
+    _output_args(ex, "results/<scenario file name>-exact")
 
-    ck = sub.add_parser("check", help="validate scenario (and --ga) files and exit")
-    ck.add_argument("scenario", nargs="+")
-    ck.add_argument("--ga")
+    ck = sub.add_parser("check", help="validate scenario (and --ga) files and exit",
+                        formatter_class=_Help, description="Validate each scenario file (and "
+                        "a --ga file on top of each); one line per file; exit 2 if any is bad.")
+    ck.add_argument("scenario", nargs="+", help="scenario TOML files")
+    ck.add_argument("--ga", metavar="GA.toml", help="GA settings file to check as well")
+
+    pl = sub.add_parser("plot", help="redraw a path from a result.json", formatter_class=_Help,
+                        description="Redraw the best path of a result file, or run K's, "
+                        "optionally with the exact optimum overlaid; violations are marked.")
+    pl.add_argument("result", help="result.json written by run or exact")
+    pl.add_argument("--run", type=int, metavar="K", help="draw run K's best path (default: the "
+                    "result's best)")
+    pl.add_argument("--with-optimum", action="store_true",
+                    help="overlay the exact optimum (solved if the file has none)")
+    pl.add_argument("--out", metavar="FILE.png", help="PNG to write (default: path.png, or "
+                    "path_run<K>.png with --run, beside the result file)")
+    pl.add_argument("--force", action="store_true", help="replace an existing PNG")
+    pl.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on disk")
     return p
 
 
-def _output_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--out", help="output folder (default results/<scenario file name>)")
+def _output_args(p: argparse.ArgumentParser, default_out: str) -> None:
+    p.add_argument("--out", metavar="DIR", help=f"output folder (default: {default_out})")
     p.add_argument("--plot", action="store_true", help="also write PNG plots")
-    p.add_argument("--force", action="store_true", help="overwrite an existing result.json")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--force", action="store_true",
+                   help="replace the result already in the output folder (all its files)")
+    p.add_argument("--json", action="store_true",
+                   help="print the summary as one JSON object on stdout instead of text")
+    p.add_argument("--quiet", action="store_true", help="no progress or compile messages")
     p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on "
                    "disk (default: $HGA_JAX_CACHE_DIR or ~/.cache/hga-jax/xla)")
 
 
-def _ga_file(path: str | None, base: GASettings) -> GASettings:
-    if not path:
-        return base
+def _ga_table(path: str) -> dict[str, Any]:
     try:
         with open(path, "rb") as fh:
-            table = tomllib.load(fh)
+            return tomllib.load(fh)
     except OSError as e:
-        raise ConfigError(f"{path}: cannot read: {e.strerror or e}") from None
+        raise ConfigError(f"{path}: file: cannot read: {e.strerror or e}") from None
     except tomllib.TOMLDecodeError as e:
-        raise ConfigError(f"{path}: TOML syntax error: {e}") from None
-    return GASettings.from_mapping(table, path, prefix="", base=base)
+        raise ConfigError(" ".join(f"{path}: toml: syntax error: {e}".splitlines())) from None
 
 
-def _settings(args, scenario) -> GASettings:
-    from .runner import settings_for
+def _settings(scenario, ga_path: str | None, flags: dict[str, Any]) -> GASettings:
+    """The layered settings: paper, scenario [ga], --ga file, flags (None: unset)."""
+    layers = [(scenario.ga, scenario.source, lambda k: f"ga.{k}")]
+    if ga_path:
+        layers.append((_ga_table(ga_path), ga_path, lambda k: k))
+    layers.append(({k: v for k, v in flags.items() if v is not None}, "command line",
+                   lambda k: "--" + k.replace("_", "-")))
+    return GASettings.layered(layers)
 
-    s = _ga_file(args.ga, settings_for(scenario))
-    names = ("population", "generations", "pc_upper", "pm_upper", "pc_lower", "pm_lower",
-             "selection", "tournament_size", "perm_crossover", "perm_mutation", "elites",
-             "collision", "precision")
-    return s.replace("command line", **{k: getattr(args, k) for k in names})
 
-
-def _out_dir(args) -> str:
-    out = args.out or os.path.join("results", os.path.splitext(os.path.basename(args.scenario))[0])
-    target = os.path.join(out, "result.json")
-    if os.path.exists(target) and not args.force:
-        raise ConfigError(f"{target}: already exists (use --force to overwrite, or another --out)")
-    try:
-        os.makedirs(out, exist_ok=True)
-    except OSError as e:
-        raise ConfigError(f"{out}: cannot create output folder: {e.strerror or e}") from None
-    if not os.access(out, os.W_OK):
-        raise ConfigError(f"{out}: output folder is not writable")
-    return out
+def _default_out(scenario_path: str, suffix: str = "") -> str:
+    return os.path.join("results", os.path.splitext(os.path.basename(scenario_path))[0] + suffix)
 
 
 def _cache(args) -> None:
-    """Keep compiled programs on disk unless ``--no-cache``."""
+    """Keep compiled programs on disk unless ``--no-cache``; warn if that cannot be done."""
     if not args.no_cache:
         from .runner import enable_compilation_cache
 
-        enable_compilation_cache()
+        enable_compilation_cache(on_error=lambda m: _warn(m))
+
+
+def _warn(message: str) -> None:
+    print(f"hga-jax: warning: {message}", file=sys.stderr, flush=True)
+
+
+@contextlib.contextmanager
+def _ctrl_c_deferred() -> Iterator[None]:
+    """Hold Ctrl-C while files are written (so a result is whole); raise it after."""
+    caught = []
+    try:
+        previous = signal.signal(signal.SIGINT, lambda *_: caught.append(True))
+    except ValueError:  # not the main thread: nothing to defer
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise Interrupted("interrupted after the result was written")
+
+
+class _StdoutError(Exception):
+    """Writing standard output failed (closed pipe, full device); carries the OSError."""
+
+
+def _emit(text: str) -> None:
+    """Print to stdout now (so a closed or full stdout is seen here, not at exit)."""
+    try:
+        sys.stdout.write(text + "\n")
+        sys.stdout.flush()
+    except OSError as e:
+        raise _StdoutError(e) from None
+
+
+def _check_run_flags(args) -> None:
+    for flag, value, low, high in (("--runs", args.runs, 1, 2**31),
+                                   ("--first-run", args.first_run, 0, 2**31 - max(args.runs, 1)),
+                                   ("--seed", args.seed, 0, 2**32),
+                                   ("--chunk", 1 if args.chunk is None else args.chunk, 1, 2**31)):
+        if not low <= value < high:
+            raise ConfigError(f"command line: {flag}: must be in {low:,}..{high - 1:,}, "
+                              f"got {value:,}")
 
 
 def _cmd_run(args) -> int:
     scenario = load_scenario(args.scenario)
-    settings = _settings(args, scenario)
-    for flag, value, low, high in (("--runs", args.runs, 1, 2**31),
-                                   ("--first-run", args.first_run, 0, 2**31 - max(args.runs, 1)),
-                                   ("--seed", args.seed, 0, 2**32),
-                                   ("--chunk", args.chunk or 1, 1, 2**31)):
-        if not low <= value < high:
-            raise ConfigError(f"command line: {flag}: must be in {low}..{high - 1}, got {value}")
-    out = _out_dir(args)
+    settings = _settings(scenario, args.ga, {k: getattr(args, k) for k in GA_FLAGS})
+    _check_run_flags(args)
+    import jax
+
+    from . import budget, report
+    from .output import check_folder
+
+    budget.plan(scenario.n, settings, args.runs, args.chunk, jax.device_count())
+    out = args.out or _default_out(args.scenario)
+    check_folder(out, args.force)
     _cache(args)
-    from . import report
     from .runner import run_many
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet)
-    print(report.run_summary(res))
-    written = report.write_run(res, out, plot=args.plot)
-    print("wrote " + ", ".join(written))
+    with _ctrl_c_deferred():
+        written = report.write_run(res, out, plot=args.plot, force=args.force)
+    if args.json:
+        _emit(json.dumps(report.run_json(res, written), allow_nan=False))
+    else:
+        _emit(report.run_summary(res))
+        _emit("wrote " + ", ".join(written))
     return 0
 
 
 def _cmd_exact(args) -> int:
     scenario = load_scenario(args.scenario)
-    from .runner import settings_for
+    collision = args.collision or _settings(scenario, None, {}).collision
+    out = args.out or _default_out(args.scenario, "-exact")
+    from .output import check_folder
 
-    collision = args.collision or settings_for(scenario).collision
-    out = _out_dir(args)
+    check_folder(out, args.force)
     _cache(args)
     from . import report
     from .exact import solve
 
     opt = solve(scenario, collision)
-    print(report.exact_summary(scenario, opt))
-    written = report.write_exact(scenario, opt, out, plot=args.plot)
-    print("wrote " + ", ".join(written))
+    with _ctrl_c_deferred():
+        written = report.write_exact(scenario, opt, out, plot=args.plot, force=args.force)
+    if args.json:
+        _emit(json.dumps(report.exact_json(scenario, opt, written), allow_nan=False))
+    else:
+        _emit(report.exact_summary(scenario, opt))
+        _emit("wrote " + ", ".join(written))
     return 0
 
 
 def _cmd_check(args) -> int:
-    from .runner import settings_for
+    from .report import count
 
+    bad = 0
+    ga_ok = args.ga is not None
     for path in args.scenario:
-        sc = load_scenario(path)
-        _ga_file(args.ga, settings_for(sc))
-        print(f"{path}: ok ({sc.name!r}, {sc.n} obstacles)")
+        try:
+            sc = load_scenario(path)
+            _settings(sc, None, {})
+        except ConfigError as e:
+            _error(str(e))
+            bad += 1
+            continue
+        _emit(f"{path}: ok (scenario {sc.name}, {count(sc.n, 'obstacle')})")
+        if args.ga:
+            try:
+                _settings(sc, args.ga, {})
+            except ConfigError as e:
+                _error(str(e))
+                ga_ok, bad = False, bad + 1
+    if args.ga and ga_ok:
+        keys = _ga_table(args.ga)
+        shown = ", ".join(f"{k} = {v}" for k, v in keys.items()) or "no settings"
+        _emit(f"{args.ga}: ok (GA settings: {shown})")
+    return 2 if bad else 0
+
+
+def _cmd_plot(args) -> int:
+    from .output import atomic_write, figure_writer
+    from .report import redraw
+
+    folder = os.path.dirname(args.result) or "."
+    out = args.out or os.path.join(folder, "path.png" if args.run is None
+                                   else f"path_run{args.run}.png")
+    if os.path.exists(out) and not args.force:
+        raise ConfigError(f"{out}: already exists (use --force to replace it, or --out)")
+    if not out.lower().endswith(".png"):
+        raise ConfigError(f"{out}: --out: must name a .png file")
+    _cache(args)
+    fig = redraw(args.result, run=args.run, with_optimum=args.with_optimum)
+    with _ctrl_c_deferred():
+        atomic_write(out, figure_writer(fig), binary=True)
+    _emit(f"wrote {out}")
     return 0
+
+
+def _error(message: str) -> None:
+    print(f"hga-jax: error: {message}", file=sys.stderr, flush=True)
+
+
+def _silence_stdout() -> None:
+    """Point file descriptor 1 at /dev/null, so the exit's flush of stdout cannot fail."""
+    with contextlib.suppress(OSError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+
+
+COMMANDS: dict[str, Callable[[Any], int]] = {
+    "run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check, "plot": _cmd_plot}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    command = {"run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check}[args.command]
     try:
-        return command(args)
+        return COMMANDS[args.command](args)
     except ConfigError as e:
-        print(f"hga-jax: error: {e}", file=sys.stderr)
+        _error(str(e))
         return 2
+    except ModelMismatchError as e:
+        print(f"hga-jax: internal error: {e} (please report this scenario)", file=sys.stderr,
+              flush=True)
+        return 3
+    except KeyboardInterrupt as e:
+        text = str(e) if isinstance(e, Interrupted) else "interrupted"
+        tail = "" if "written" in text else "; nothing written"
+        print(f"hga-jax: {text}{tail}", file=sys.stderr, flush=True)
+        return 130
+    except _StdoutError as wrapped:
+        e = wrapped.args[0]
+        _silence_stdout()
+        if e.errno == errno.EPIPE:  # the reader stopped reading (| head): not an error
+            return 0
+        _error(f"standard output: {e.strerror or e}")
+        return 1
     except OSError as e:
         where = f"{e.filename}: " if e.filename else ""
-        print(f"hga-jax: error: {where}{e.strerror or e}", file=sys.stderr)
+        _error(f"{where}{e.strerror or e}")
         return 1
-    except ModelMismatchError as e:
-        print(f"hga-jax: internal error: {e} (please report this scenario)", file=sys.stderr)
-        return 3
-    except KeyboardInterrupt:
-        print("hga-jax: interrupted", file=sys.stderr)
-        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

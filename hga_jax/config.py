@@ -13,10 +13,14 @@ radians in the returned :class:`~hga_jax.scenario.Scenario`)::
 
 ``obstacles``, ``field`` and ``ga`` may be absent. Every problem raises
 :class:`~hga_jax.errors.ConfigError` with one line ``"<source>: <key>: <problem>"``
-where the key is a dotted path such as ``obstacles[3].x`` (0-based).
+where the key is a dotted path such as ``obstacles[3].x``. Obstacles are numbered
+from 1 in the order of the ``[[obstacles]]`` tables, here as everywhere a user
+reads them (summaries, plots, the chromosome's upper module, result files), so
+``obstacles[3]`` is the third table (docs/model.md).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from pathlib import Path
@@ -68,7 +72,7 @@ def _value(v: Any, kind: str, source: str, key: str) -> Any:
     if kind == "tables":
         if not isinstance(v, (list, tuple)):
             raise _error(source, key, f"must be an array of tables, got {v!r}")
-        for i, item in enumerate(v):
+        for i, item in enumerate(v, start=1):
             _value(item, "table", source, f"{key}[{i}]")
     return v
 
@@ -118,11 +122,11 @@ def _field(table: Mapping[str, Any], r: float, source: str) -> Field:
 def _obstacles(items: Any, r: float, source: str) -> tuple[np.ndarray, np.ndarray]:
     """Obstacle centres ``(n, 2)`` and physical radii ``(n,)`` in metres."""
     centres, radii = [], []
-    for i, item in enumerate(items):
+    for i, item in enumerate(items, start=1):
         t = _table(item, OBSTACLE, source, f"obstacles[{i}]")
         radii.append(_positive(t.get("radius", r), source, f"obstacles[{i}].radius"))
         c = (t["x"], t["y"])
-        for j, other in enumerate(centres):
+        for j, other in enumerate(centres, start=1):
             if math.dist(c, other) <= TOL:
                 raise _error(source, f"obstacles[{i}]", f"same centre as obstacles[{j}]")
         centres.append(c)
@@ -132,7 +136,7 @@ def _obstacles(items: Any, r: float, source: str) -> tuple[np.ndarray, np.ndarra
 def _check_pose(s: Scenario, key: str, pose: tuple[float, float, float]) -> None:
     """Raise if the pose point is inside a model circle or (kept) outside the field."""
     x, y, _ = pose
-    for i, (c, big_r) in enumerate(zip(s.centres, s.model_radii)):
+    for i, (c, big_r) in enumerate(zip(s.centres, s.model_radii), start=1):
         d = math.dist((x, y), c)
         if d < big_r - TOL:
             raise _error(s.source, key, f"point ({x:g}, {y:g}) is inside the model circle "
@@ -170,6 +174,26 @@ def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>") -> Sc
     _check_pose(s, "start", start)
     _check_pose(s, "goal", goal)
     return s
+
+
+def scenario_to_dict(s: Scenario) -> dict[str, Any]:
+    """The mapping of a scenario file (metres and degrees) that gives ``s`` back
+    through :func:`scenario_from_dict` (headings to within rounding)."""
+    def pose(p: tuple[float, float, float]) -> dict[str, float]:
+        return {"x": float(p[0]), "y": float(p[1]), "heading_deg": math.degrees(p[2])}
+
+    out: dict[str, Any] = {
+        "name": s.name,
+        "robot": {"radius": s.robot_radius, "min_turn_radius": s.min_turn_radius},
+        "start": pose(s.start), "goal": pose(s.goal),
+        "obstacles": [{"x": float(x), "y": float(y), "radius": float(r)}
+                      for (x, y), r in zip(s.centres, s.radii)],
+    }
+    if s.field is not None:
+        out["field"] = dataclasses.asdict(s.field)
+    if s.ga:
+        out["ga"] = dict(s.ga)
+    return out
 
 
 def load_scenario(path: str | Path) -> Scenario:

@@ -1,6 +1,6 @@
 """Decoding a batch of chromosomes into tight-rope paths: length and violations.
 
-A chromosome (MODEL.md, paper 3.3) is stored as
+A chromosome (docs/model.md, paper 3.3) is stored as
 - ``perm``: (n,) int32, the obstacle indices 0..n-1 in upper-module order
   (the upper module is ``[0, perm + 1, n + 1]``);
 - ``labels``: (n + 2,) int32, the lower module: start, one label per permutation

@@ -1,4 +1,4 @@
-"""The one exception type a user should ever see from bad input."""
+"""The exception types a user may see: bad input, and a model mismatch (a bug)."""
 
 
 class ConfigError(ValueError):
@@ -11,3 +11,11 @@ class ConfigError(ValueError):
 
 class ModelMismatchError(RuntimeError):
     """The exact solver's tangent graph and the decoder disagree about a path (a bug in hga-jax): the message names the scenario and both figures."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C stopped a job between two blocks of generations; nothing was written.
+
+    The message says where it stopped, e.g. ``"interrupted in batch 1 of 2 after
+    12 of 51 generations"``.
+    """

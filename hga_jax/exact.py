@@ -4,7 +4,7 @@ Oriented circles: the two start circles (left ``-1`` and right ``+1``, radius rh
 the two goal circles, and every obstacle's model circle clockwise (``+1``) and
 counter-clockwise (``-1``). Nodes are points on an oriented circle: the start point
 on each start circle, the goal point on each goal circle, and both touch points of
-every feasible directed tangent. Edges (MODEL.md, "The optimum of the model"):
+every feasible directed tangent. Edges (docs/model.md, "The optimum of the model"):
 
 - tangent: the directed tangent segment from a source circle (start or obstacle) to a
   target circle (obstacle or goal); never between an obstacle and itself; a missing
@@ -55,12 +55,12 @@ class ExactResult:
       ``math.inf`` when no feasible path exists.
     walk_length: the shortest walk in the tangent graph (m). seconds: time of the graph
     build and search (s); the decoder's float64 re-check of the path is not counted.
-    upper, lower: the optimal chromosome (MODEL.md), None when not expressible.
+    upper, lower: the optimal chromosome (docs/model.md), None when not expressible.
     touched: ``(obstacle 0-based, label)`` along the optimal walk, in travel order.
     expressible: False when the optimal walk touches one obstacle twice; then
       ``best_expressible`` is the best chromosome-expressible feasible path (None if none).
     path: ``evaluate_path`` of the optimal chromosome (None when not expressible; then
-      ``best_expressible`` is that path). segments: MODEL.md segments of the optimal walk.
+      ``best_expressible`` is that path). segments: docs/model.md segments of the optimal walk.
     Infeasible scenes: ``feasible`` False, ``length`` inf, ``expressible`` True, no paths.
     """
 
@@ -240,7 +240,7 @@ def _search(gr: _Graph, h: list[float], distinct: bool) -> tuple[float, list[int
 
 
 def _walk(gr: _Graph, edges: list[int]) -> tuple[list[int], list[dict[str, Any]]]:
-    """Oriented circles visited (in order) and MODEL.md segments of a walk."""
+    """Oriented circles visited (in order) and docs/model.md segments of a walk."""
     x, y, r, sg, _ = gr.circles
     circs, segs, arc_on = [int(gr.ncirc[gr.src[edges[0]]])] if edges else [], [], -1
     for k in edges:

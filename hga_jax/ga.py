@@ -9,6 +9,11 @@ Everything here is a pure function of arrays, a PRNG key and the static
 :class:`~hga_jax.settings.GASettings`. Run ``k`` of seed ``s`` uses the key
 ``fold_in(key(s), k)`` and nothing else, so it gives the same result alone or
 inside a batch of any size.
+
+A run can be taken whole (:func:`run`, one ``lax.scan`` over the generations) or
+in blocks of generations (:func:`start`, then :func:`advance` again and again on
+the host, carrying the state), which gives bit-identical results and lets the
+host stop, report progress and bound memory between blocks.
 """
 from __future__ import annotations
 
@@ -176,14 +181,77 @@ def run(key, sa: ScenarioArrays, settings: GASettings):
     return state, history
 
 
+@_fixed_stream
+def start(seed, k, sa: ScenarioArrays, settings: GASettings):
+    """Generation 0 of run ``k`` of ``seed``: ``(GAState, Record, keys)``.
+
+    ``keys`` (G,) are the keys of generations 1..G, the very keys :func:`run` uses;
+    :func:`advance` takes them.
+    """
+    k0, kg = jax.random.split(run_key(seed, k))
+    state = init(k0, sa, settings)
+    return state, _record(state.pop, state.best), jax.random.split(kg, settings.generations)
+
+
+@_fixed_stream
+def advance(state: GAState, keys, first, sa: ScenarioArrays, settings: GASettings, steps: int):
+    """Generations ``first .. first + steps - 1`` of a run: ``(GAState, Record of (steps,))``.
+
+    ``keys``: the run's generation keys from :func:`start`; ``first`` (>= 1) may be a
+    traced scalar (one compiled program serves every block). Generations past
+    ``settings.generations`` leave the state unchanged and record zeros (the host
+    drops them); ``steps`` is static.
+    """
+    total = settings.generations
+    ragged = total % steps != 0 if total else False
+
+    def body(st, i):
+        g = first + i
+        k = keys[jnp.clip(g - 1, 0, max(total - 1, 0))]
+        if not ragged:
+            return step(k, st, sa, settings, g)
+        return jax.lax.cond(g <= total, lambda s: step(k, s, sa, settings, g),
+                            lambda s: (s, _zero_record(s)), st)
+
+    return jax.lax.scan(body, state, jnp.arange(steps, dtype=jnp.int32))
+
+
+def _zero_record(state: GAState) -> Record:
+    best = state.best
+    return Record(jnp.zeros_like(best.fitness), jnp.zeros_like(best.fitness),
+                  jnp.zeros_like(best.fitness), jnp.zeros_like(best.length),
+                  jnp.zeros_like(best.violations))
+
+
+def run_indices(ks):
+    """``ks`` (a sequence or array of run indices) as a 1-D int32 array, checked."""
+    ks = jnp.asarray(ks)
+    if ks.ndim != 1 or not jnp.issubdtype(ks.dtype, jnp.integer):
+        raise TypeError(f"ks: expected a 1-D sequence of integer run indices, got shape "
+                        f"{tuple(ks.shape)} of {ks.dtype}")
+    return ks.astype(jnp.int32)
+
+
+def start_batch(seed, ks, sa: ScenarioArrays, settings: GASettings):
+    """:func:`start` for each run index in ``ks`` (a sequence or 1-D array), vmapped."""
+    return jax.vmap(lambda k: start(seed, k, sa, settings))(run_indices(ks))
+
+
+def advance_batch(state: GAState, keys, first, sa: ScenarioArrays, settings: GASettings,
+                  steps: int):
+    """:func:`advance` for a batch of runs (leading axis of ``state`` and ``keys``)."""
+    return jax.vmap(lambda st, kk: advance(st, kk, first, sa, settings, steps))(state, keys)
+
+
 compiled_step = jax.jit(step, static_argnames="settings")
 """One generation as one compiled function: ``compiled_step(key, state, sa, settings, g)``."""
 
 
 def run_batch(seed, ks, sa: ScenarioArrays, settings: GASettings):
-    """Runs ``ks`` (int array) of ``seed``, vmapped: only ``best`` and the history are kept."""
+    """Runs ``ks`` of ``seed`` (a sequence or 1-D integer array of run indices), vmapped:
+    ``(Best, Record)`` with a leading run axis; the history is (runs, G + 1)."""
     def one(k):
         state, history = run(run_key(seed, k), sa, settings)
         return state.best, history
 
-    return jax.vmap(one)(ks)
+    return jax.vmap(one)(run_indices(ks))

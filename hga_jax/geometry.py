@@ -1,11 +1,11 @@
-"""Tangent geometry of oriented circles (MODEL.md), elementwise and array-generic.
+"""Tangent geometry of oriented circles (docs/model.md), elementwise and array-generic.
 
 Every function takes x and y components as separate arrays (the batch layout
 that vectorises well) and broadcasts them; it runs on numpy arrays (host code,
 float64: the exact solver) and on jax arrays or tracers (device code: decoding,
 fitness) with the same formulas, so the GA and the exact solver share one model.
 
-Conventions (MODEL.md): lengths in metres, angles in radians. A circle's
+Conventions (docs/model.md): lengths in metres, angles in radians. A circle's
 orientation ``sign`` is ``+1`` clockwise (CW) and ``-1`` counter-clockwise (CCW);
 ``sigma = -sign`` is ``+1`` for CCW. ``left(u) = (-u_y, u_x)``.
 """
@@ -73,7 +73,7 @@ def heading_on_circle(px, py, cx, cy, sign):
 
 
 class Tangent(NamedTuple):
-    """The directed tangent from circle 1 to circle 2 (MODEL.md).
+    """The directed tangent from circle 1 to circle 2 (docs/model.md).
 
     ux, uy: its unit direction. length: ``sqrt(d^2 - k^2)`` (m). p1x..p2y: touch
     points on circles 1 and 2. exists: False when the tangent does not exist (one

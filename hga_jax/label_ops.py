@@ -4,7 +4,7 @@ Conventions:
 
 - Labels are a 1-D ``int32`` array of length ``L = n + 2``: position 0 is the
   start circle, ``L - 1`` the goal circle, the others belong to the obstacles
-  at the same positions of the upper module (MODEL.md).
+  at the same positions of the upper module (docs/model.md).
 - Allowed values: ``+1`` clockwise, ``-1`` counter-clockwise, ``0`` obstacle
   not touched. The two end positions take ``{-1, +1}``; the others
   ``{-1, 0, +1}``.

@@ -1,8 +1,14 @@
 """A single path, re-evaluated exactly: float64 length, violations and segments.
 
 Host-side: runs the same decoder as the search (:func:`hga_jax.decode.decode_batch`)
-in float64 and turns its slots into MODEL.md's segment list. Every length that
-hga-jax reports comes from here, whatever precision the search used.
+in float64 and turns its slots into the segment list of the result files
+(docs/model.md). Every length that hga-jax reports comes from here, whatever
+precision the search used.
+
+Obstacles are *numbered* from 1 (the order of the scenario's ``[[obstacles]]``
+tables) in what users read: ``upper``, ``violations_at`` and the result files'
+``touched``. Python-side indices into arrays (``perm``, ``scenario.centres``,
+``Path.touched`` and ``ExactResult.touched`` pairs) count from 0.
 """
 from __future__ import annotations
 
@@ -12,6 +18,7 @@ from typing import Any, Sequence
 import jax
 import numpy as np
 
+from . import geometry as g
 from .decode import decode_batch
 from .errors import ConfigError
 from .scenario import Scenario
@@ -45,10 +52,16 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full"):
 class Path:
     """An evaluated path.
 
-    length: metres (arcs + lines, no penalty). violations: count per MODEL.md.
+    length: metres (arcs + lines, no penalty). violations: count (docs/model.md).
     upper, lower: the chromosome (upper ``[0, ..., n+1]``, lower labels).
-    segments: MODEL.md segment dicts in travel order (zero-length pieces left out).
-    touched: ``(obstacle index 0-based, label)`` in travel order.
+    segments: segment dicts of the result files in travel order (zero-length pieces
+      left out).
+    touched: ``(obstacle index from 0, label +1 CW / -1 CCW)`` pairs in travel order, as
+      in :class:`~hga_jax.exact.ExactResult`; ``to_dict`` writes them in the result
+      files' format, ``{"obstacle": number from 1, "label": ...}``.
+    violations_at: one dict per violation: ``{"kind": "obstacle" | "missing tangent" |
+      "field", "segment": index into segments (None for a zero-length piece),
+      "obstacle": number from 1 (None unless kind is "obstacle")}``.
     """
 
     length: float
@@ -57,6 +70,7 @@ class Path:
     lower: list[int]
     segments: list[dict[str, Any]] = field(default_factory=list)
     touched: list[tuple[int, int]] = field(default_factory=list)
+    violations_at: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def feasible(self) -> bool:
@@ -69,13 +83,19 @@ class Path:
             "violations": self.violations,
             "upper": self.upper,
             "lower": self.lower,
-            "touched": [{"obstacle": i, "label": s} for i, s in self.touched],
+            "touched": touch_list(self.touched),
             "segments": self.segments,
+            "violations_at": self.violations_at,
         }
 
 
+def touch_list(pairs: Sequence[Sequence[int]]) -> list[dict[str, int]]:
+    """``touched`` of the result files from ``(obstacle index from 0, label)`` pairs."""
+    return [{"obstacle": int(i) + 1, "label": int(s)} for i, s in pairs]
+
+
 def chromosome(perm: Sequence[int], labels: Sequence[int]) -> tuple[list[int], list[int]]:
-    """(upper, lower) of MODEL.md from the internal ``perm`` (0-based) and ``labels``."""
+    """(upper, lower) of docs/model.md from the internal ``perm`` (0-based) and ``labels``."""
     n = len(perm)
     return [0] + [int(p) + 1 for p in perm] + [n + 1], [int(v) for v in labels]
 
@@ -96,31 +116,79 @@ def from_chromosome(upper: Sequence[int], lower: Sequence[int], n: int,
 
 def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int],
                   collision: str = "full") -> Path:
-    """Decode one chromosome in float64 and describe its path."""
+    """Decode one chromosome in float64 and describe its path, violations located."""
     perm = np.asarray(perm, np.int32).reshape(scenario.n)
     labels = np.asarray(labels, np.int32).reshape(scenario.n + 2)
     d = jax.tree.map(lambda a: a[0], decode64(scenario, perm, labels, collision))
     upper, lower = chromosome(perm, labels)
+    locate = _Locator(scenario, collision)
     segments: list[dict[str, Any]] = []
+    where: list[dict[str, Any]] = []
     count = int(d.count)
     for s in range(count):
         cx, cy, r, sign = (float(v) for v in d.circles[s])
         ax, ay, bx, by, swp = (float(v) for v in d.arcs[s])
-        if swp > 0.0:
+        drawn = swp > 0.0
+        if drawn:
             segments.append({
                 "type": "arc", "center": [cx, cy], "radius": r,
                 "start_angle": float(np.arctan2(ay - cy, ax - cx)), "sweep": -sign * swp,
             })
+        where += locate.arc((cx, cy, r, sign), int(d.obstacle[s]), (ax, ay, bx, by, swp),
+                            len(segments) - 1 if drawn else None)
         if s < count - 1:
-            p1x, p1y, p2x, p2y, _ = (float(v) for v in d.lines[s])
-            if np.hypot(p2x - p1x, p2y - p1y) > 0.0:
+            p1x, p1y, p2x, p2y, exists = (float(v) for v in d.lines[s])
+            drawn = bool(np.hypot(p2x - p1x, p2y - p1y) > 0.0)
+            if drawn:
                 segments.append({"type": "line", "start": [p1x, p1y], "end": [p2x, p2y]})
+            where += locate.line((p1x, p1y, p2x, p2y), exists > 0.5,
+                                 len(segments) - 1 if drawn else None)
     touched = [(int(d.obstacle[s]), int(d.circles[s][3])) for s in range(1, count - 1)]
-    return Path(float(d.length), int(d.violations), upper, lower, segments, touched)
+    return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where)
+
+
+class _Locator:
+    """Which obstacle (or the field) each piece of a decoded path violates.
+
+    The decoder's own tests (:mod:`hga_jax.geometry`) in float64, piece by piece,
+    so the list has one entry per violation the decoder counted.
+    """
+
+    def __init__(self, scenario: Scenario, collision: str):
+        sa = scenario.arrays(np.float64)
+        self.qx, self.qy = np.asarray(sa.centres[:, 0]), np.asarray(sa.centres[:, 1])
+        self.qr, self.bounds = np.asarray(sa.model_radii), np.asarray(sa.bounds)
+        self.full, self.tol = collision == "full", g.tolerances(np.float64).length
+
+    def _obstacles(self, hit: np.ndarray, segment: int | None) -> list[dict[str, Any]]:
+        return [{"kind": "obstacle", "segment": segment, "obstacle": int(k) + 1}
+                for k in np.flatnonzero(hit)]
+
+    @staticmethod
+    def _field(out: Any, segment: int | None) -> list[dict[str, Any]]:
+        return [{"kind": "field", "segment": segment, "obstacle": None}] if bool(out) else []
+
+    def arc(self, circle, own: int, arc, segment: int | None) -> list[dict[str, Any]]:
+        (cx, cy, r, sign), (ax, ay, bx, by, swp) = circle, arc
+        found = []
+        if self.full and self.qx.size:
+            hit = g.arc_hits(cx, cy, r, ax, ay, bx, by, swp, sign, self.qx, self.qy, self.qr,
+                             self.tol)
+            found = self._obstacles(np.asarray(hit) & (np.arange(self.qx.size) != own), segment)
+        out = g.arc_leaves_box(cx, cy, r, ax, ay, bx, by, swp, sign, self.bounds, self.tol)
+        return found + self._field(out, segment)
+
+    def line(self, ends, exists: bool, segment: int | None) -> list[dict[str, Any]]:
+        hits = g.segment_hits if self.full else g.segment_hits_paper
+        found = self._obstacles(np.asarray(hits(*ends, self.qx, self.qy, self.qr, self.tol)),
+                                segment) if self.qx.size else []
+        if not exists:
+            found.append({"kind": "missing tangent", "segment": segment, "obstacle": None})
+        return found + self._field(g.segment_leaves_box(*ends, self.bounds, self.tol), segment)
 
 
 def segments_length(segments: Sequence[dict[str, Any]]) -> float:
-    """Total length of a MODEL.md segment list (m): ``radius*|sweep|`` plus line lengths."""
+    """Total length of a segment list of the result files (m): ``radius*|sweep|`` plus line lengths."""
     total = 0.0
     for seg in segments:
         if seg["type"] == "arc":

@@ -4,8 +4,10 @@ Host code on matplotlib's object API (``matplotlib.figure.Figure``, no pyplot),
 so it runs headless and the figures display in notebooks. Artists carry a
 ``gid`` ("field", "field_inner", "obstacle", "model_circle", "turning_circle",
 "start", "start_arrow", "goal", "goal_arrow", "arc", "line", "touched",
+"optimum_path", "violation_piece", "violation_obstacle", "violation_point",
 "best_median", "best_band", "mean_median", "optimum", "length_median",
-"optimum_length") so callers and tests can find them.
+"optimum_length") so callers and tests can find them. Obstacles are labelled
+with their numbers, counted from 1 (docs/model.md).
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 from .scenario import Scenario
 
 C_ARC, C_LINE, C_START, C_GOAL, C_TOUCH = "tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"
+C_OPT, C_BAD = "black", "red"
 PTS_PER_RAD = 60  # arc sampling density
 
 
@@ -42,21 +45,69 @@ def _pose(ax: Axes, pose: Sequence[float], rho: float, colour: str, name: str,
     ax.add_patch(FancyArrowPatch((x, y), tip, arrowstyle="-|>", mutation_scale=14, lw=1.8,
                                  color=colour, shrinkA=0, shrinkB=0, zorder=6, gid=name + "_arrow"))
     ends = []
-    for s in (-1.0, 1.0):  # left/CCW, right/CW centres (MODEL.md)
+    for s in (-1.0, 1.0):  # left/CCW, right/CW centres (docs/model.md)
         c = (x - s * rho * np.sin(th), y + s * rho * np.cos(th))
         ax.add_patch(Circle(c, rho, fill=False, ls=":", lw=0.8, ec=colour, gid="turning_circle"))
         ends += [(c[0] - rho, c[1] - rho), (c[0] + rho, c[1] + rho)]
     return np.asarray(ends)
 
 
+def segment_points(seg: Mapping[str, Any]) -> np.ndarray:
+    """(m, 2) points along one segment of the result-file format (metres)."""
+    if seg["type"] == "arc":
+        return arc_points(seg["center"], float(seg["radius"]), float(seg["start_angle"]),
+                          float(seg["sweep"]))
+    if seg["type"] == "line":
+        return np.asarray([seg["start"], seg["end"]], float)
+    raise ValueError(f"unknown segment type {seg['type']!r}")
+
+
+def _touches(touched: Iterable[Any], n: int) -> dict[int, int]:
+    """``touched`` -> {obstacle index from 0: label}.
+
+    Items are the result files' ``{"obstacle": number from 1, "label": +1 | -1}`` or
+    Python's ``(index from 0, label)`` pairs (``Path.touched``, ``ExactResult.touched``).
+    """
+    out = {}
+    for item in touched:
+        if isinstance(item, Mapping) and set(item) == {"obstacle", "label"}:
+            k, label = int(item["obstacle"]) - 1, int(item["label"])
+        elif not isinstance(item, (Mapping, str)) and len(item) == 2:
+            k, label = int(item[0]), int(item[1])
+        else:
+            raise TypeError("touched: items must be {'obstacle': number from 1, 'label': +1 "
+                            f"or -1}} as in result.json, or (index from 0, label), got {item!r}")
+        if not 0 <= k < n:
+            raise ValueError(f"touched: obstacle must be in 1..{n}, got number {k + 1}")
+        out[k] = label
+    return out
+
+
+def _closest(xy: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The point of the polyline ``xy`` (m, 2) closest to ``q`` (2,)."""
+    a, b = xy[:-1], xy[1:]
+    v = b - a
+    vv = np.maximum(np.einsum("ij,ij->i", v, v), 1e-300)
+    t = np.clip(np.einsum("ij,ij->i", q - a, v) / vv, 0.0, 1.0)
+    p = a + t[:, None] * v
+    return p[np.argmin(np.hypot(*(p - q).T))]
+
+
 def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
-              touched: Iterable[tuple[int, int]] = (), title: str | None = None,
-              ax: Axes | None = None) -> Figure:
+              touched: Iterable[Any] = (), title: str | None = None,
+              ax: Axes | None = None, optimum: Sequence[Mapping[str, Any]] | None = None,
+              violations_at: Iterable[Mapping[str, Any]] = ()) -> Figure:
     """Draw the scene (field, obstacles, start and goal poses) and a path.
 
     ``segments``: travel-ordered arc/line dicts of the result-file format
-    (MODEL.md); may be empty. ``touched``: ``(obstacle_index, label)`` pairs,
-    0-based index, label ``+1`` CW / ``-1`` CCW, highlighted on the picture.
+    (docs/model.md); may be empty. ``touched``: the result files' items
+    ``{"obstacle": number from 1, "label": +1 CW / -1 CCW}`` (``best["touched"]`` of
+    a result.json) or ``(index from 0, label)`` pairs (``Path.touched``), highlighted
+    on the picture.
+    ``optimum``: another segment list (the exact optimum) drawn dashed over the
+    path. ``violations_at``: ``Path.violations_at`` items; each offending piece is
+    redrawn in red, each obstacle it meets gets a red model circle and a cross at
+    the piece's point closest to its centre.
     """
     if ax is None:
         fig = Figure(figsize=(8.0, 5.6), layout="constrained")
@@ -75,7 +126,7 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
                                    f.ymax - f.ymin - 2 * r, fill=False, ec="0.4", lw=0.8,
                                    ls="-.", gid="field_inner"))
         pts.append(np.asarray([[f.xmin, f.ymin], [f.xmax, f.ymax]]))
-    touch = {int(i): int(s) for i, s in touched}
+    touch = _touches(touched, scenario.n)
     for i, (c, ri, Ri) in enumerate(zip(centres, radii, model)):
         hit = i in touch
         ax.add_patch(Circle(c, ri, fc="0.86", ec="0.55", lw=0.8, zorder=2, gid="obstacle"))
@@ -92,21 +143,26 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     pts.append(_pose(ax, scenario.start, rho, C_START, "start", span))
     pts.append(_pose(ax, scenario.goal, rho, C_GOAL, "goal", span))
     kinds_seen: set[str] = set()
+    drawn = []
     for seg in segments:
-        if seg["type"] == "arc":
-            xy = arc_points(seg["center"], float(seg["radius"]),
-                            float(seg["start_angle"]), float(seg["sweep"]))
-            style = dict(color=C_ARC, lw=2.6, solid_capstyle="round")
-        elif seg["type"] == "line":
-            xy = np.asarray([seg["start"], seg["end"]], float)
-            style = dict(color=C_LINE, lw=2.0)
-        else:
-            raise ValueError(f"unknown segment type {seg['type']!r}")
+        xy = segment_points(seg)
         kind = seg["type"]
+        style = (dict(color=C_ARC, lw=2.6, solid_capstyle="round") if kind == "arc"
+                 else dict(color=C_LINE, lw=2.0))
         label = "_nolegend_" if kind in kinds_seen else f"path {kind}"
         kinds_seen.add(kind)
         ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind, label=label, **style)
         pts.append(xy)
+        drawn.append(xy)
+    if optimum is not None:
+        label = "optimum"
+        for seg in optimum:
+            xy = segment_points(seg)
+            ax.plot(xy[:, 0], xy[:, 1], color=C_OPT, lw=1.2, ls="--", zorder=8,
+                    gid="optimum_path", label=label)
+            label = "_nolegend_"
+            pts.append(xy)
+    _violations(ax, list(violations_at), drawn, centres, model)
     allp = np.concatenate(pts)
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     pad = 0.03 * float(max(hi - lo))
@@ -129,6 +185,31 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     ax.legend(handles=h + handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
               fontsize=8, frameon=False)
     return fig
+
+
+def _violations(ax: Axes, where: list[Mapping[str, Any]], drawn: list[np.ndarray],
+                centres: np.ndarray, model: np.ndarray) -> None:
+    """Mark each violation: the piece in red; an obstacle's model circle and the
+    piece's point closest to its centre (a cross)."""
+    label = "violation: piece"
+    for v in where:
+        seg = v.get("segment")
+        if seg is None:
+            continue
+        xy = drawn[seg]
+        ax.plot(xy[:, 0], xy[:, 1], color=C_BAD, lw=3.4, alpha=0.75, zorder=6,
+                gid="violation_piece", label=label)
+        label = "_nolegend_"
+        if v.get("kind") == "obstacle":
+            k = int(v["obstacle"]) - 1
+            p = _closest(xy, centres[k])
+            ax.plot([p[0]], [p[1]], "x", color=C_BAD, ms=9, mew=2.2, zorder=9,
+                    gid="violation_point")
+    label = "violation: obstacle met"
+    for k in sorted({int(v["obstacle"]) - 1 for v in where if v.get("kind") == "obstacle"}):
+        ax.add_patch(Circle(centres[k], model[k], fill=False, ec=C_BAD, lw=2.0, zorder=4,
+                            gid="violation_obstacle", label=label))
+        label = "_nolegend_"
 
 
 def _band(ax: Axes, gens: np.ndarray, data: np.ndarray, colour: str, label: str, gid: str) -> None:
@@ -186,8 +267,10 @@ def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
 
 
 def save_figure(fig: Figure, path: str | Path, dpi: int = 140) -> Path:
-    """Write ``fig`` as PNG to ``path`` (parents created); return the path."""
+    """Write ``fig`` as PNG to ``path`` atomically (parents created); return the path."""
+    from .output import atomic_write, figure_writer
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi, format="png", bbox_inches="tight", pad_inches=0.05)
+    atomic_write(str(path), figure_writer(fig, dpi), binary=True)
     return path

@@ -1,106 +1,206 @@
-"""Human-readable summaries and the files of a result folder.
+"""Human-readable summaries, their JSON form, and the files of a result folder.
 
 ``run``: ``result.json``, ``history.csv`` and, with plots, ``path.png`` and
-``convergence.png``. ``exact``: ``result.json`` (same schema, no runs) and
-``path.png``. Every file is written atomically (see :mod:`hga_jax.results`).
+``convergence.png``. ``exact``: ``result.json`` (same schema, no runs) and, with
+plots, ``path.png``. Files are written by :mod:`hga_jax.output`: atomically, and
+one result per folder. Obstacles are numbered from 1; percentages have two
+decimals; counts have thousands separators (docs/model.md).
 """
 from __future__ import annotations
 
-import os
+from dataclasses import asdict
 from typing import Any
 
 import numpy as np
 
+from .errors import ConfigError
 from .fitness import fitness_of, length_of_fitness
-from .results import RunsResult, result_document, write_csv, write_json
+from .output import csv_writer, figure_writer, json_writer, write_result
+from .path import touch_list
+from .results import RunsResult, json_safe, optimum_dict, result_document
 from .scenario import Scenario
+from .settings import GASettings
+
+PAPER_NOTE = ("collision \"paper\": segments judged by the paper's Appendix B test, which "
+              "misses a segment that starts or ends inside another model circle")
 
 
-def _pct(x: float | None) -> str:
-    return "n/a" if x is None else f"{100 * x:.3g}%"
+def count(k: int, noun: str, plural: str | None = None) -> str:
+    """``"1 run"``, ``"1,000 runs"``."""
+    return f"{k:,} {noun if k == 1 else plural or noun + 's'}"
 
 
-def _touched(touched) -> str:
-    return " ".join(f"{i + 1}{'CW' if s > 0 else 'CCW'}" for i, s in touched) or "none"
+def pct(x: float | None) -> str:
+    """A fraction as a percentage with two decimals (``"n/a"`` for None)."""
+    return "n/a" if x is None else f"{100 * x:.2f}%"
+
+
+def touches(touched: list[tuple[int, int]]) -> str:
+    """``"2CW 4CW 5CCW"`` (obstacles numbered from 1) from ``(index from 0, label)`` pairs."""
+    return " ".join(f"{i + 1}{'CW' if s > 0 else 'CCW'}" for i, s in touched) or "no obstacle"
+
+
+def operators(st: GASettings) -> str:
+    """The GA's operators and rates in one phrase."""
+    sel = (f"tournament selection (size {st.tournament_size})" if st.selection == "tournament"
+           else f"{st.selection} selection")
+    return (f"{sel}; order: {st.perm_crossover} crossover (pc {st.pc_upper:g}), "
+            f"{st.perm_mutation} mutation (pm {st.pm_upper:g}); labels: {st.label_crossover} "
+            f"crossover (pc {st.pc_lower:g}), redraw (pm {st.pm_lower:g} per gene); "
+            f"{count(st.elites, 'elite')}")
+
+
+def _generations(value: float | None, runs: int, what: str) -> str:
+    if value is None:
+        return f"to {what}: no run got there"
+    return f"to {what} {value:g} (median over the {count(runs, 'run')} that got there)"
+
+
+def _full_test_note(scenario: Scenario, path: Any) -> str:
+    """For a path judged with collision "paper": what the full test says of it."""
+    from .path import evaluate_path, from_chromosome
+
+    if path is None:
+        return PAPER_NOTE
+    full = evaluate_path(scenario, *from_chromosome(path.upper, path.lower, scenario.n), "full")
+    verdict = ("is feasible under the full test too" if full.feasible else
+               f"has {count(full.violations, 'violation')} under the full test (collision "
+               "\"full\")")
+    return f"{PAPER_NOTE}; this path {verdict}"
 
 
 def run_summary(res: RunsResult) -> str:
-    """The short summary ``hga-jax run`` prints."""
-    s, st = res.summary(), res.settings
+    """The summary ``hga-jax run`` prints."""
+    s, st, sc = res.summary(), res.settings, res.scenario
+    runs = s["runs"]
     med = s["median_generation_found_best"]
     lines = [
-        f"scenario {res.scenario.name} ({res.scenario.n} obstacles): {s['runs']} run(s) of seed "
-        f"{res.seed}, population {st.population}, {st.generations} generations, "
-        f"collision {st.collision}",
+        f"scenario {sc.name} ({count(sc.n, 'obstacle')}), collision {st.collision}: "
+        f"{count(runs, 'run')} of seed {res.seed}, population {st.population}, "
+        f"{count(st.generations, 'generation')}, precision {st.precision}",
+        f"operators: {operators(st)}",
         f"best length {s['best_length']:.6f} m ({'feasible' if s['best_feasible'] else 'INFEASIBLE'}"
-        f", touches {_touched(res.best.touched)}), found in {s['runs_found_best']}/{s['runs']} "
-        f"runs, median generation first reached {med if med is not None else 'n/a'}",
+        f", touches {touches(res.best.touched)}), found in {s['runs_found_best']:,} of "
+        f"{count(runs, 'run')}, median generation first reached {med:g}",
     ]
     if "optimum_length" in s:
         lines.append(
-            f"optimum {s['optimum_length']:.6f} m: hit rate {_pct(s['hit_rate'])}; gap over "
-            f"{s['feasible_runs']} feasible runs median {_pct(s['gap_median'])} mean "
-            f"{_pct(s['gap_mean'])} max {_pct(s['gap_max'])} ({s['infeasible_runs']} runs "
-            f"ended infeasible); "
-            f"median generations to within 1% {s['median_generation_within_1pct']}, "
-            f"to hit {s['median_generation_hit']}")
+            f"optimum {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
+            f"({s['runs_hit']:,} of {count(runs, 'run')}); gap over the "
+            f"{count(s['feasible_runs'], 'feasible run')}: "
+            + (f"median {pct(s['gap_median'])}, mean {pct(s['gap_mean'])}, "
+               f"max {pct(s['gap_max'])}" if s["feasible_runs"] else "none")
+            + f"; {count(s['infeasible_runs'], 'run')} ended infeasible")
+        lines.append("median generations: "
+                     + _generations(s["median_generation_within_1pct"], s["runs_within_1pct"],
+                                    "within 1%") + "; "
+                     + _generations(s["median_generation_hit"], s["runs_hit"], "the hit"))
         opt = res.optimum
         if not opt.expressible:
             alt = opt.best_expressible
-            lines.append("  (the optimal walk touches an obstacle twice, which no chromosome "
+            lines.append("the optimal walk touches an obstacle twice, which no chromosome "
                          "expresses; best chromosome path "
-                         + (f"{alt.length:.6f} m)" if alt is not None else "unknown)"))
+                         + (f"{alt.length:.6f} m" if alt is not None else "unknown"))
     elif res.optimum is not None:
-        lines.append(f"optimum: none ({getattr(res.optimum, 'message', 'no feasible path')})")
+        lines.append(f"optimum: no feasible path exists (collision {st.collision})")
+    if st.collision == "paper":
+        lines.append("note: " + _full_test_note(sc, res.best))
     rate = s["evaluations_per_s"]
     lines.append(f"time: compile {res.compile_s:.2f} s, search {res.search_s:.2f} s "
-                 f"({s['evaluations']:,} evaluations, {rate:,.0f}/s), finish {res.finish_s:.2f} s")
+                 f"({count(s['evaluations'], 'evaluation')}"
+                 + (f", {rate:,.0f}/s" if rate else "") + f"), finish {res.finish_s:.2f} s")
     return "\n".join(lines)
+
+
+def run_json(res: RunsResult, written: list[str]) -> dict[str, Any]:
+    """What ``hga-jax run --json`` prints: the summary and the files written."""
+    return json_safe({
+        "command": "run", "scenario": res.scenario.name, "source": res.scenario.source,
+        "seed": res.seed, "settings": asdict(res.settings), "summary": res.summary(),
+        "best": {"run": res.best_run, "length": res.best.length,
+                 "feasible": res.best.feasible, "violations": res.best.violations,
+                 "touched": touch_list(res.best.touched)},
+        "written": written,
+    })
 
 
 def exact_summary(scenario: Scenario, opt: Any) -> str:
     """The summary ``hga-jax exact`` prints."""
+    head = (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}), collision "
+            f"{opt.collision}: ")
+    took = f"solved in {1000 * opt.seconds:.1f} ms"
     if not opt.feasible:
-        return (f"scenario {scenario.name}: no feasible path ({opt.message}); "
-                f"solved in {1000 * opt.seconds:.1f} ms")
-    text = (f"scenario {scenario.name} ({scenario.n} obstacles), collision {opt.collision}: "
-            f"optimum {opt.length:.6f} m touching {_touched(opt.touched)}, "
-            f"solved in {1000 * opt.seconds:.1f} ms")
+        return head + f"no feasible path exists; {took}"
+    text = head + f"optimum {opt.length:.6f} m touching {touches(opt.touched)}, {took}"
     if opt.expressible:
-        text += f"\nchromosome upper {opt.upper} lower {opt.lower}"
-    if not opt.expressible:
+        text += f"\nchromosome: upper {_ints(opt.upper)}, lower {_ints(opt.lower)}"
+    else:
         alt = opt.best_expressible
         text += ("\nthe optimal walk touches an obstacle twice: no chromosome expresses it; "
                  + (f"best chromosome path {alt.length:.6f} m" if alt else "no chromosome path"))
+    if opt.collision == "paper":
+        text += "\nnote: " + _full_test_note(scenario, opt.path or opt.best_expressible)
     return text
 
 
-def write_run(res: RunsResult, out: str, plot: bool = False) -> list[str]:
-    """Write a run's files into ``out``; returns the paths written."""
-    paths = [os.path.join(out, "result.json"), os.path.join(out, "history.csv")]
-    write_json(paths[0], res.to_dict())
-    write_csv(paths[1], res.history_rows())
-    if plot:
-        from .plots import plot_convergence, plot_path, save_figure
+def _ints(values: list[int]) -> str:
+    return "[" + " ".join(str(int(v)) for v in values) + "]"
 
-        best = res.best
-        title = f"{res.scenario.name}: length {best.length:.4f} m, " + (
-            "feasible" if best.feasible else f"{best.violations} violations")
-        paths.append(_save(save_figure, plot_path(res.scenario, best.segments,
-                                                  touched=best.touched, title=title),
-                           out, "path.png"))
-        opt = res.optimum_length
-        h = res.history
-        fig = plot_convergence(
-            h["best_fitness"], h["mean_fitness"],
-            optimum_fitness=None if opt is None else fitness_of(opt, 0, res.scenario.delta),
-            # Best-so-far Dist_m (length plus penalty): the length itself once feasible.
-            best_length=length_of_fitness(h["best_so_far_fitness"].astype(np.float64)),
-            optimum_length=opt,
-            title=f"{res.scenario.name}: {len(res.length)} runs, median and quartiles",
-            length_label="best-so-far Dist$_m$ = length + penalty (m)")
-        paths.append(_save(save_figure, fig, out, "convergence.png"))
-    return paths
+
+def exact_json(scenario: Scenario, opt: Any, written: list[str]) -> dict[str, Any]:
+    """What ``hga-jax exact --json`` prints."""
+    return json_safe({"command": "exact", "scenario": scenario.name, "source": scenario.source,
+                      "optimum": optimum_dict(opt), "written": written})
+
+
+def path_title(name: str, what: str, length: float, violations: int, collision: str,
+               st: GASettings | None = None) -> str:
+    """A path plot's title: length, feasibility, collision mode and (for GA paths) operators."""
+    state = "feasible" if violations == 0 else count(violations, "violation")
+    text = f"{name}: {what}, length {length:.4f} m, {state}, collision {collision}"
+    if st is not None:
+        text += (f"\n{st.selection}, {st.perm_crossover}/{st.perm_mutation}, "
+                 f"population {st.population}, {count(st.generations, 'generation')}")
+    return text
+
+
+def run_figures(res: RunsResult) -> dict[str, Any]:
+    """The run's figures: ``path.png`` (best path, violations marked) and ``convergence.png``."""
+    from .plots import plot_convergence, plot_path
+
+    best, st = res.best, res.settings
+    path = plot_path(res.scenario, best.segments, touched=best.touched,
+                     violations_at=best.violations_at,
+                     title=path_title(res.scenario.name, f"best (run {res.best_run})",
+                                      best.length, best.violations, st.collision, st))
+    opt = res.optimum_length
+    h = res.history
+    conv = plot_convergence(
+        h["best_fitness"], h["mean_fitness"],
+        optimum_fitness=None if opt is None else fitness_of(opt, 0, res.scenario.delta),
+        # Best-so-far Dist_m (length plus penalty): the length itself once feasible.
+        best_length=length_of_fitness(h["best_so_far_fitness"].astype(np.float64)),
+        optimum_length=opt,
+        title=(f"{res.scenario.name}: {count(len(res.length), 'run')}, median and quartiles; "
+               f"collision {st.collision}; {st.selection}, {st.perm_crossover}/"
+               f"{st.perm_mutation}"),
+        length_label="best-so-far Dist$_m$ = length + penalty (m)")
+    return {"path.png": path, "convergence.png": conv}
+
+
+def write_run(res: RunsResult, out: str, plot: bool = False, force: bool = False) -> list[str]:
+    """Write a run's files into the folder ``out``; returns the paths written.
+
+    A folder holds one result: if ``out`` already holds result files, this raises
+    :class:`~hga_jax.errors.ConfigError` unless ``force``, which replaces them
+    (and removes the earlier result's files this one does not write, e.g. its
+    PNGs when ``plot`` is False).
+    """
+    files = {"result.json": (json_writer(res.to_dict()), False),
+             "history.csv": (csv_writer(res.history_rows()), False)}
+    if plot:
+        files.update({k: (figure_writer(f), True) for k, f in run_figures(res).items()})
+    return write_result(out, files, force)
 
 
 def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
@@ -108,29 +208,100 @@ def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
     path = opt.path.to_dict() if opt.feasible and opt.path is not None else None
     return result_document(scenario, {
         "seed": None, "runs": None, "settings": {"collision": opt.collision},
-        "best": path, "optimum": opt.to_dict(),
+        "best": path, "optimum": optimum_dict(opt),
         "summary": {"optimum_length": opt.length if opt.feasible else None,
                     "seconds": opt.seconds},
         "per_run": [],
     })
 
 
-def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False) -> list[str]:
-    paths = [os.path.join(out, "result.json")]
-    write_json(paths[0], exact_to_dict(scenario, opt))
+def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False,
+                force: bool = False) -> list[str]:
+    """Write ``exact``'s files into ``out`` (one result per folder, as :func:`write_run`)."""
+    files = {"result.json": (json_writer(exact_to_dict(scenario, opt)), False)}
     if plot:
-        from .plots import plot_path, save_figure
+        from .plots import plot_path
 
-        segs = opt.path.segments if opt.feasible and opt.path is not None else []
-        title = (f"{scenario.name}: optimum {opt.length:.4f} m" if opt.feasible
-                 else f"{scenario.name}: no feasible path")
-        touched = opt.touched if opt.feasible else ()
-        paths.append(_save(save_figure, plot_path(scenario, segs, touched=touched, title=title),
-                           out, "path.png"))
-    return paths
+        if opt.feasible:
+            fig = plot_path(scenario, opt.segments, touched=opt.touched,
+                            title=path_title(scenario.name, "optimum", opt.length, 0,
+                                             opt.collision))
+        else:
+            fig = plot_path(scenario, [], title=f"{scenario.name}: no feasible path, collision "
+                            f"{opt.collision}")
+        files["path.png"] = (figure_writer(fig), True)
+    return write_result(out, files, force)
 
 
-def _save(save_figure, fig, out: str, name: str) -> str:
-    path = os.path.join(out, name)
-    save_figure(fig, path)
-    return path
+def load_result(path: str) -> dict[str, Any]:
+    """A result.json, read and checked for the keys :func:`redraw` needs."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = json.load(fh)
+    except OSError as e:
+        raise ConfigError(f"{path}: file: cannot read: {e.strerror or e}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise ConfigError(f"{path}: json: not a result file ({e})") from None
+    for key in ("scenario", "settings", "best", "optimum", "per_run"):
+        if not isinstance(data, dict) or key not in data:
+            raise ConfigError(f"{path}: {key}: missing key (not a result.json of hga-jax)")
+    if not isinstance(data["scenario"], dict) or "definition" not in data["scenario"]:
+        raise ConfigError(f"{path}: scenario.definition: missing key (written by an older "
+                          "hga-jax? run it again)")
+    return data
+
+
+def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any:
+    """The figure ``hga-jax plot`` draws from the result file ``path``.
+
+    ``run``: draw run ``run``'s best path (re-evaluated from its chromosome) instead
+    of the result's best. ``with_optimum``: overlay the exact optimum (the file's,
+    or solved now if the file has none). Violations are marked.
+    """
+    from .config import scenario_from_dict
+    from .path import evaluate_path, from_chromosome
+    from .plots import plot_path
+
+    data = load_result(path)
+    sc = scenario_from_dict(data["scenario"]["definition"], f"{path}: scenario.definition")
+    st_keys = data["settings"]
+    collision = st_keys.get("collision", "full")
+    st = GASettings(**st_keys) if "population" in st_keys else None
+    if run is None:
+        best = data["best"]
+        what = "optimum" if st is None else f"best (run {best.get('run')})"
+        if best is None:
+            segs, touched, where, length, viol = [], [], [], None, None
+        else:
+            segs, touched, where = best["segments"], best["touched"], best["violations_at"]
+            length, viol = best["length"], best["violations"]
+    else:
+        rows = [r for r in data["per_run"] if r.get("run") == run]
+        if not rows:
+            ids = [r["run"] for r in data["per_run"]]
+            span = f"runs {min(ids)}..{max(ids)}" if ids else "no runs"
+            raise ConfigError(f"{path}: per_run: no run {run} in this file ({span})")
+        p = evaluate_path(sc, *from_chromosome(rows[0]["upper"], rows[0]["lower"], sc.n,
+                                               f"{path}: per_run"), collision)
+        segs, touched, where, length, viol = (p.segments, p.touched, p.violations_at,
+                                              p.length, p.violations)
+        what = f"run {run}"
+    overlay, note = None, ""
+    if with_optimum:
+        opt = data["optimum"]
+        if opt is None:
+            from .exact import solve
+
+            solved = solve(sc, collision)
+            opt = {"feasible": solved.feasible, "length": solved.length,
+                   "segments": solved.segments}
+        if opt["feasible"]:
+            overlay, note = opt["segments"], f"; optimum {opt['length']:.4f} m (dashed)"
+        else:
+            note = "; no feasible optimum"
+    title = (path_title(sc.name, what, length, viol, collision, st) if length is not None
+             else f"{sc.name}: no feasible path, collision {collision}")
+    return plot_path(sc, segs, touched=touched, violations_at=where, optimum=overlay,
+                     title=title + note)

@@ -1,28 +1,29 @@
 """Results of many runs: statistics, the gap to the optimum, JSON/CSV files.
 
 Lengths are metres and come from the float64 re-evaluation. ``gap = length /
-optimum - 1`` for a feasible run; a run *hits* the optimum when its gap is below
-``HIT_GAP``. Generations count from 0 (the initial population).
+optimum - 1`` for a feasible run (``inf`` for an infeasible one); when the optimum
+is 0 m (start and goal poses equal), the gap is 0 for a path no longer than
+``ZERO_LENGTH`` and ``inf`` otherwise. A run *hits* the optimum when its gap is
+below ``HIT_GAP``. Generations count from 0 (the initial population). The file
+format is described in docs/model.md.
 """
 from __future__ import annotations
 
-import csv
-import json
 import math
-import os
 import platform
-import tempfile
 from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
 
-from .path import Path, chromosome
+from .path import Path, chromosome, touch_list
 from .scenario import Scenario
 from .settings import GASettings
 
 HIT_GAP = 1e-6
 NEAR_GAP = 0.01
+ZERO_LENGTH = 1e-9  # metres: a path this short matches an optimum of 0 m
+SEARCH_SLACK = 1e-5  # metres: absolute slack on the search's own (float32) lengths
 
 
 @dataclass
@@ -62,7 +63,11 @@ class RunsResult:
         opt = self.optimum_length
         if opt is None:
             return np.full(len(self.length), np.nan)
-        return np.where(self.feasible, self.length / opt - 1.0, np.inf)
+        if opt > 0.0:
+            rel = self.length / opt - 1.0
+        else:
+            rel = np.where(self.length <= ZERO_LENGTH, 0.0, np.inf)
+        return np.where(self.feasible, rel, np.inf)
 
     @property
     def hit(self) -> np.ndarray:
@@ -70,13 +75,14 @@ class RunsResult:
 
     def first_generation_within(self, gap: float) -> np.ndarray:
         """Per run the first generation whose best-so-far is feasible and within ``gap``
-        of the optimum (-1: never). Judged on the search's own lengths with 1e-6 slack."""
+        of the optimum (-1: never). Judged on the search's own lengths with a relative
+        slack of 1e-6 and an absolute one of ``SEARCH_SLACK``."""
         opt = self.optimum_length
         if opt is None:
             return np.full(len(self.length), -1)
         h = self.history
         ok = (h["best_so_far_violations"] == 0) & (
-            h["best_so_far_length"] <= opt * (1.0 + gap) * (1.0 + 1e-6))
+            h["best_so_far_length"] <= opt * (1.0 + gap) * (1.0 + 1e-6) + SEARCH_SLACK)
         return np.where(ok.any(axis=0), ok.argmax(axis=0), -1)
 
     @property
@@ -111,13 +117,15 @@ class RunsResult:
                 "gap_mean": _stat(np.mean, gap),
                 "gap_max": _stat(np.max, gap),
                 "shorter_than_optimum": int(np.sum(gap < -HIT_GAP)),
+                "runs_hit": int(self.hit.sum()),
+                "runs_within_1pct": int((near >= 0).sum()),
                 "median_generation_within_1pct": _median(near[near >= 0]),
                 "median_generation_hit": _median(self.generation_hit[self.hit]),
             })
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        """result.json (MODEL.md's contract plus run statistics)."""
+        """result.json (the format of docs/model.md plus run statistics)."""
 
         near = self.first_generation_within(NEAR_GAP)
         per_run = []
@@ -137,7 +145,7 @@ class RunsResult:
             "runs": [int(self.run_ids[0]), int(self.run_ids[-1])],
             "settings": asdict(self.settings),
             "best": {"run": self.best_run, **self.best.to_dict()},
-            "optimum": self.optimum.to_dict() if self.optimum is not None else None,
+            "optimum": optimum_dict(self.optimum),
             "summary": self.summary(),
             "per_run": per_run,
         })
@@ -175,13 +183,24 @@ def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
 
     from . import __version__
 
+    from .config import scenario_to_dict
+
     return json_safe({
         "scenario_name": scenario.name,
-        "scenario": {"name": scenario.name, "source": scenario.source, "obstacles": scenario.n},
+        "scenario": {"name": scenario.name, "source": scenario.source, "obstacles": scenario.n,
+                     "definition": scenario_to_dict(scenario)},
         "versions": {"hga_jax": __version__, "jax": jax.__version__, "numpy": np.__version__,
                      "python": platform.python_version()},
         **body,
     })
+
+
+def optimum_dict(opt: Any) -> dict[str, Any] | None:
+    """result.json's ``optimum`` from an :class:`~hga_jax.exact.ExactResult` (or None):
+    ``touched`` in the files' format, obstacles numbered from 1."""
+    if opt is None:
+        return None
+    return {**opt.to_dict(), "touched": touch_list(opt.touched)}
 
 
 def json_safe(obj: Any) -> Any:
@@ -195,30 +214,3 @@ def json_safe(obj: Any) -> Any:
     if isinstance(obj, (float, np.floating)):
         return float(obj) if math.isfinite(obj) else None
     return obj
-
-
-def _atomic_write(path: str, write) -> None:
-    """Write through a temporary file in the same folder, then rename: never half a file."""
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=os.path.basename(path))
-    try:
-        with os.fdopen(fd, "w", newline="") as fh:
-            write(fh)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
-
-
-def write_json(path: str, data: dict[str, Any]) -> None:
-    _atomic_write(path, lambda fh: json.dump(data, fh, indent=1, allow_nan=False))
-
-
-def write_csv(path: str, rows: list[dict[str, Any]]) -> None:
-    def write(fh):
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-
-    _atomic_write(path, write)

@@ -1,51 +1,66 @@
-"""Host side of many seeded runs: chunking, sharding, timing, float64 re-evaluation.
+"""Host side of many seeded runs: batches, blocks, sharding, timing, float64 re-evaluation.
 
-``run_many`` compiles one batch shape (a chunk of runs), feeds it chunks of run
-indices (the last one padded), shards each chunk over the devices when there
-are several, and re-evaluates every run's best chromosome in float64 before
-anything is reported.
+``run_many`` sizes the job (:mod:`hga_jax.budget`), compiles one batch shape (a
+chunk of runs) as two programs, generation 0 and a block of generations, feeds
+it chunks of run indices (the last one padded), loops over the blocks on the
+host carrying the state (progress and Ctrl-C between blocks), shards each chunk
+over the devices when there are several, and re-evaluates every run's best
+chromosome in float64 before anything is reported.
 """
 from __future__ import annotations
 
-import math
+import functools
 import os
 import sys
 import time
-from typing import Any
+import warnings
+from typing import Any, Callable
 
 import jax
 import numpy as np
 
-from .errors import ConfigError
+from . import budget
+from .errors import ConfigError, Interrupted
 from .exact import solve
 from .fitness import fitness_of
-from .ga import run_batch
+from .ga import Record, advance_batch, start_batch
+from .report import count
 from .path import decode64, evaluate_path
 from .results import RunsResult
 from .scenario import Scenario
 from .settings import GASettings
 
-CHROMOSOMES_PER_CHUNK = 50_000  # beyond this the working set leaves the cache
 
 
-def enable_compilation_cache(path: str | None = None) -> str | None:
+def enable_compilation_cache(path: str | None = None,
+                             on_error: Callable[[str], None] | None = None) -> str | None:
     """Keep compiled GA programs on disk, so a repeated run skips most of its compile.
 
     ``path`` defaults to ``$HGA_JAX_CACHE_DIR``, else ``$XDG_CACHE_HOME/hga-jax/xla``
     (``~/.cache/hga-jax/xla``); ``HGA_JAX_CACHE_DIR=off`` disables it. Sets JAX's
     global compilation-cache option (the command line does this; notebooks may).
-    Returns the folder used, or None. A folder that cannot be created only costs
-    compile time.
+    Returns the folder used, or None. A folder that cannot be created or written
+    only costs compile time: ``on_error`` (default :func:`warnings.warn`) is told
+    why, in one line.
     """
-    where = path if path is not None else os.environ.get("HGA_JAX_CACHE_DIR")
+    env = os.environ.get("HGA_JAX_CACHE_DIR")
+    where = path if path is not None else env
     if where in ("", "off"):
         return None
     if where is None:
         base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
         where = os.path.join(base, "hga-jax", "xla")
+    named = "HGA_JAX_CACHE_DIR=" if path is None and env is not None else ""
+    problem = None
     try:
         os.makedirs(where, exist_ok=True)
-    except OSError:
+        if not os.access(where, os.W_OK | os.X_OK):
+            problem = "not writable"
+    except OSError as e:
+        problem = e.strerror or str(e)
+    if problem:
+        (on_error or warnings.warn)(f"{named}{where}: cannot keep compiled programs there "
+                                    f"({problem}); compiling without a cache")
         return None
     jax.config.update("jax_compilation_cache_dir", where)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
@@ -73,48 +88,78 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
 
     ``settings`` defaults to the scenario's ``[ga]`` table over the paper's
     settings. ``exact`` also solves the model's optimum and reports the gap.
+    ``chunk``: runs per compiled batch (None: sized by :mod:`hga_jax.budget`, which
+    also lowers a ``chunk`` that would not fit in memory and refuses a job whose
+    results cannot fit). Each batch runs in blocks of generations, so Ctrl-C stops
+    the job within a block (:class:`~hga_jax.errors.Interrupted`); ``progress``
+    shows a bar of generations on stderr.
     """
     settings = settings or settings_for(scenario)
     for key, value, low, high in (("seed", seed, 0, 2**32), ("runs", runs, 1, 2**31),
-                                  ("first_run", first_run, 0, 2**31 - runs)):
+                                  ("first_run", first_run, 0, 2**31 - runs),
+                                  ("chunk", 1 if chunk is None else chunk, 1, 2**31)):
         if not (isinstance(value, (int, np.integer)) and low <= value < high):
             raise ConfigError(f"run_many: {key}: must be an integer in {low}..{high - 1}, "
                               f"got {value!r}")
+    cut = budget.plan(scenario.n, settings, runs, chunk, jax.device_count(), source="run_many")
+    size, gens = cut.chunk, settings.generations
     dtype = np.float64 if settings.precision == "float64" else np.float32
-    chunk = chunk or max(1, CHROMOSOMES_PER_CHUNK // settings.population)
-    chunk = min(chunk, runs)
-    devices = jax.device_count()
-    chunk = math.ceil(chunk / devices) * devices
     sharding = _sharding()
-    ks_all = np.arange(first_run, first_run + math.ceil(runs / chunk) * chunk, dtype=np.int32)
-
-    def fn(ks, sa):
-        return run_batch(seed, ks, sa, settings)
-
+    ks_all = np.arange(first_run, first_run + cut.batches * size, dtype=np.int32)
     if progress:
-        print(f"compiling {chunk} runs x {settings.generations + 1} generations x "
-              f"{settings.population} individuals ...", file=sys.stderr, flush=True)
-    with jax.enable_x64(dtype == np.float64):
-        sa = scenario.arrays(dtype)
-        t0 = time.perf_counter()
-        ks0 = ks_all[:chunk]
-        ks0 = jax.device_put(ks0, sharding) if sharding else ks0
-        compiled = jax.jit(fn).lower(ks0, sa).compile()
-        compile_s = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        outs = []
-        bar = _progress(runs, progress)
-        for start in range(0, len(ks_all), chunk):
-            ks = ks_all[start:start + chunk]
-            ks = jax.device_put(ks, sharding) if sharding else ks
-            best, hist = compiled(ks, sa)
-            outs.append(jax.tree.map(np.asarray, (best, hist)))
-            if bar is not None:
-                bar.update(min(chunk, runs - start))
+        print(f"compiling: batches of {count(size, 'run')} x {count(settings.population, 'individual')}"
+              f", {count(cut.block, 'generation')} per step ({count(cut.batches, 'batch', 'batches')}"
+              f" for {count(runs, 'run')}) ...", file=sys.stderr, flush=True)
+    hist = {name: np.zeros((gens + 1, runs), dt) for name, dt in _record_dtypes(dtype).items()}
+    bests, bar = [], None
+    b = done = 0  # batch, generations done in it (for the interrupt message)
+    compiling = True
+    try:
+        bar = _progress(cut.batches * (gens + 1), progress,
+                        f"generations of {count(runs, 'run')}" if cut.batches == 1 else
+                        f"generations of {cut.batches} batches of {count(size, 'run')}")
+        with jax.enable_x64(dtype == np.float64):
+            sa = scenario.arrays(dtype)
+            t0 = time.perf_counter()
+            begin = jax.jit(functools.partial(start_batch, seed, settings=settings))
+            ks0 = _put(ks_all[:size], sharding)
+            begin = begin.lower(ks0, sa).compile()
+            compile_s, search_s = time.perf_counter() - t0, 0.0
+            compiling = False
+            step = None
+            for b, lo in enumerate(range(0, len(ks_all), size)):
+                done = 0
+                t0 = time.perf_counter()
+                real = min(size, runs - lo)
+                state, rec0, keys = begin(_put(ks_all[lo:lo + size], sharding), sa)
+                _store(hist, rec0, 0, 1, lo, real)
+                if step is None and gens:
+                    t1 = time.perf_counter()
+                    compiling = True
+                    step = jax.jit(functools.partial(advance_batch, settings=settings,
+                                                     steps=cut.block))
+                    step = step.lower(state, keys, np.int32(1), sa).compile()
+                    compile_s += time.perf_counter() - t1
+                    compiling = False
+                    t0 += time.perf_counter() - t1
+                done = 1
+                _tick(bar, 1)
+                for first in range(1, gens + 1, cut.block):
+                    state, recs = step(state, keys, np.int32(first), sa)
+                    steps = min(cut.block, gens + 1 - first)
+                    _store(hist, recs, first, steps, lo, real)
+                    done += steps
+                    _tick(bar, steps)
+                bests.append(jax.tree.map(lambda a: np.asarray(a)[:real], state.best))
+                search_s += time.perf_counter() - t0
+    except KeyboardInterrupt:
+        raise Interrupted("interrupted while compiling" if compiling else
+                          f"interrupted in batch {b + 1} of {cut.batches} after {done} of "
+                          f"{gens + 1} generations") from None
+    finally:
         if bar is not None:
             bar.close()
-        search_s = time.perf_counter() - t0
-    best, hist = jax.tree.map(lambda *xs: np.concatenate(xs)[:runs], *outs)
+    best = jax.tree.map(lambda *xs: np.concatenate(xs), *bests)
 
     t0 = time.perf_counter()
     d = decode64(scenario, best.perm, best.labels, settings.collision)
@@ -129,17 +174,39 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
         scenario=scenario, settings=settings, seed=seed,
         run_ids=np.arange(first_run, first_run + runs),
         perm=best.perm, labels=best.labels, length=length, violations=violations,
-        generation=best.generation.astype(np.int64),
-        history={k: np.asarray(v).T for k, v in hist._asdict().items()},  # (G + 1, runs)
+        generation=best.generation.astype(np.int64), history=hist,
         best=best_path, best_run=first_run + top, optimum=optimum,
         compile_s=compile_s, search_s=search_s, finish_s=time.perf_counter() - t0,
         evaluations=runs * settings.population * (settings.generations + 1),
     )
 
 
-def _progress(total: int, enabled: bool) -> Any:
+def _put(ks: np.ndarray, sharding: Any) -> Any:
+    return jax.device_put(ks, sharding) if sharding else ks
+
+
+def _record_dtypes(dtype: Any) -> dict[str, Any]:
+    """The history's arrays: one per field of :class:`~hga_jax.ga.Record`."""
+    return {name: (np.int32 if name.endswith("violations") else dtype) for name in Record._fields}
+
+
+def _store(hist: dict[str, np.ndarray], rec: Any, first: int, steps: int, lo: int,
+           real: int) -> None:
+    """Copy records of ``steps`` generations from ``first`` of the batch's ``real`` runs."""
+    for name, value in rec._asdict().items():
+        v = np.asarray(value)[:real]
+        hist[name][first:first + steps, lo:lo + real] = v.reshape(real, -1)[:, :steps].T
+
+
+def _tick(bar: Any, k: int) -> None:
+    if bar is not None:
+        bar.update(k)
+
+
+def _progress(total: int, enabled: bool, what: str) -> Any:
+    """A bar on stderr counting generations (``what`` says of what)."""
     if not enabled:
         return None
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, unit="run", desc="runs", leave=False)
+    return tqdm(total=total, unit="gen", desc=what, leave=False, file=sys.stderr)

@@ -2,7 +2,7 @@
 
 Units: metres and radians (configs use degrees in keys named ``*_deg``; the
 loader converts). The point robot sees each obstacle as its *model circle* of
-radius ``R_i = max(rho, r_i + r)`` (MODEL.md).
+radius ``R_i = max(rho, r_i + r)`` (docs/model.md).
 
 ``Scenario`` is host-side (plain floats and numpy arrays, validated by the
 loader in :mod:`hga_jax.config`). ``Scenario.arrays(dtype)`` gives the

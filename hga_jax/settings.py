@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping, Sequence
 
 from .errors import ConfigError
 
@@ -51,11 +51,23 @@ class GASettings:
     def __post_init__(self) -> None:
         self.validate("<settings>")
 
-    def validate(self, source: str, prefix: str = "ga") -> None:
-        """Raise :class:`ConfigError` naming ``source`` and the key if a value is bad."""
+    def validate(self, source: str, prefix: str = "ga",
+                 origins: Mapping[str, str] | None = None) -> None:
+        """Raise :class:`ConfigError` naming ``source`` and the key if a value is bad.
+
+        ``origins`` (key -> ``"<source>: <key as written there>"``) names where each
+        layered value came from; a conflict between two keys names both sources.
+        """
+        origins = origins or {}
+
+        def where(key: str) -> str:
+            return origins.get(key) or f"{source}: {_dotted(prefix, key)}"
 
         def bad(key: str, why: str) -> ConfigError:
-            return ConfigError(f"{source}: {_dotted(prefix, key)}: {why}")
+            return ConfigError(f"{where(key)}: {why}")
+
+        def pop() -> str:
+            return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
         for key in ("population", "generations", "tournament_size", "elites"):
             v = getattr(self, key)
@@ -66,9 +78,9 @@ class GASettings:
         if self.generations < 0:
             raise bad("generations", f"must be >= 0, got {self.generations}")
         if not 1 <= self.tournament_size <= self.population:
-            raise bad("tournament_size", f"must be in 1..population, got {self.tournament_size}")
+            raise bad("tournament_size", f"must be in 1..{pop()}, got {self.tournament_size}")
         if not 0 <= self.elites < self.population:
-            raise bad("elites", f"must be in 0..population-1, got {self.elites}")
+            raise bad("elites", f"must be in 0..{pop()} - 1, got {self.elites}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
@@ -96,25 +108,39 @@ class GASettings:
 
         Unknown keys and wrong types raise :class:`ConfigError` naming the key.
         """
+        return cls.layered([(mapping, source, lambda k: _dotted(prefix, k))], base)
+
+    @classmethod
+    def layered(cls, layers: Sequence[tuple[Mapping[str, Any], str, Callable[[str], str]]],
+                base: "GASettings | None" = None) -> "GASettings":
+        """Settings from ``layers`` applied in order on top of ``base`` (default: paper).
+
+        A layer is ``(mapping, source, name)``: its keys, the file (or "command line")
+        they came from, and how a key is written there (``ga.population``,
+        ``--population``). Each value is checked for its key and type in its layer;
+        the result is validated once, so an error names the source of every value
+        it involves.
+        """
         names = {f.name: f for f in dataclasses.fields(cls)}
         values = dataclasses.asdict(base or cls())
-        for key, v in mapping.items():
-            if key not in names:
-                raise ConfigError(
-                    f"{source}: {_dotted(prefix, key)}: unknown key (known: {', '.join(names)})"
-                )
-            default = values[key]
-            if isinstance(default, float) and isinstance(v, int) and not isinstance(v, bool):
-                v = float(v)
-            if type(v) is not type(default):
-                raise ConfigError(
-                    f"{source}: {_dotted(prefix, key)}: must be {type(default).__name__}, got {v!r}"
-                )
-            values[key] = v
+        origins: dict[str, str] = {}
+        for mapping, source, name in layers:
+            for key, v in mapping.items():
+                if key not in names:
+                    raise ConfigError(
+                        f"{source}: {name(key)}: unknown key (known: {', '.join(names)})")
+                default = values[key]
+                if isinstance(default, float) and isinstance(v, int) and not isinstance(v, bool):
+                    v = float(v)
+                if type(v) is not type(default):
+                    raise ConfigError(
+                        f"{source}: {name(key)}: must be {type(default).__name__}, got {v!r}")
+                values[key] = v
+                origins[key] = f"{source}: {name(key)}"
         obj = cls.__new__(cls)
         for k, v in values.items():
             object.__setattr__(obj, k, v)
-        obj.validate(source, prefix)
+        obj.validate(layers[-1][1] if layers else "<settings>", "ga", origins)
         return obj
 
     def replace(self, source: str = "<settings>", **changes: Any) -> "GASettings":

@@ -191,7 +191,7 @@ def test_scenario_from_dict() -> None:
     np.testing.assert_allclose(s.model_radii, [0.2])
     assert s.ga == {"generations": 10}
     d["obstacles"][0]["x"] = 0.1  # now the start is inside its model circle
-    with pytest.raises(ConfigError, match=r"^nb\.py: start: .*obstacles\[0\]"):
+    with pytest.raises(ConfigError, match=r"^nb\.py: start: .*obstacles\[1\]"):
         scenario_from_dict(d, source="nb.py")
     with pytest.raises(ConfigError, match="scenario"):
         scenario_from_dict([1, 2], source="nb.py")  # type: ignore[arg-type]
@@ -219,12 +219,12 @@ BAD = {
     "missing_table": (mutate(("[start]\nx = 0.5\ny = 0.4\nheading_deg = 0.0\n", "")), "start"),
     "missing_robot_radius": (mutate(("radius = 0.1\n", "")), "robot.radius"),
     "missing_heading": (mutate(("heading_deg = 90.0\n", "")), "goal.heading_deg"),
-    "missing_obstacle_x": (mutate(("\nx = 2.0\n", "\n")), "obstacles[1].x"),
+    "missing_obstacle_x": (mutate(("\nx = 2.0\n", "\n")), "obstacles[2].x"),
     "missing_field_ymax": (mutate(("ymax = 2.0\n", "")), "field.ymax"),
     "unknown_top": ("colour = 1\n" + BASE, "colour"),
     "unknown_robot": (mutate(("radius = 0.1\n", "radius = 0.1\nspeed = 2.0\n")), "robot.speed"),
     "unknown_start": (mutate(("heading_deg = 0.0", "heading = 0.0")), "start.heading"),
-    "unknown_obstacle": (mutate(("x = 1.5\n", "x = 1.5\nz = 0.0\n")), "obstacles[0].z"),
+    "unknown_obstacle": (mutate(("x = 1.5\n", "x = 1.5\nz = 0.0\n")), "obstacles[1].z"),
     "unknown_field": (mutate(("keep_inside = true", "keep = true")), "field.keep"),
     "string_for_number": (mutate(("x = 0.5", 'x = "0.5"')), "start.x"),
     "bool_for_number": (mutate(("y = 1.5", "y = true")), "goal.y"),
@@ -233,18 +233,18 @@ BAD = {
     "table_for_number": (mutate(("y = 0.4", "y = {v = 1}")), "start.y"),
     "nan": (mutate(("min_turn_radius = 0.2", "min_turn_radius = nan")), "robot.min_turn_radius"),
     "inf": (mutate(("x = 0.5", "x = inf")), "start.x"),
-    "minus_inf": (mutate(("y = 1.0", "y = -inf")), "obstacles[0].y"),
+    "minus_inf": (mutate(("y = 1.0", "y = -inf")), "obstacles[1].y"),
     "negative_robot_radius": (mutate(("radius = 0.1", "radius = -0.1")), "robot.radius"),
     "zero_robot_radius": (mutate(("radius = 0.1", "radius = 0")), "robot.radius"),
     "zero_turn_radius": (mutate(("min_turn_radius = 0.2", "min_turn_radius = 0.0")),
                          "robot.min_turn_radius"),
     "negative_obstacle_radius": (mutate(("radius = 0.15", "radius = -0.15")),
-                                 "obstacles[1].radius"),
-    "zero_obstacle_radius": (mutate(("radius = 0.15", "radius = 0.0")), "obstacles[1].radius"),
-    "start_inside": (mutate(("x = 2.0\ny = 0.6", "x = 0.6\ny = 0.5")), "obstacles[1]"),
+                                 "obstacles[2].radius"),
+    "zero_obstacle_radius": (mutate(("radius = 0.15", "radius = 0.0")), "obstacles[2].radius"),
+    "start_inside": (mutate(("x = 2.0\ny = 0.6", "x = 0.6\ny = 0.5")), "obstacles[2]"),
     "goal_inside": (mutate(("x = 1.5\ny = 1.0", "x = 2.4\ny = 1.4")), "goal: point (2.5, 1.5)"),
     "same_centre": (mutate(("x = 2.0\ny = 0.6", "x = 1.5\ny = 1.0")),
-                    "obstacles[1]: same centre as obstacles[0]"),
+                    "obstacles[2]: same centre as obstacles[1]"),
     "start_outside_field": (mutate(("x = 0.5", "x = 0.05")), "start"),
     "goal_outside_field": (mutate(("y = 1.5", "y = 1.95")), "goal"),
     "xmin_ge_xmax": (mutate(("xmin = 0.0", "xmin = 3.0")), "field.xmax"),
@@ -273,7 +273,7 @@ def test_bad_input(tmp_path: Path, text: str, key: str) -> None:
 def test_start_inside_message(tmp_path: Path) -> None:
     path = write(tmp_path, mutate(("x = 2.0\ny = 0.6", "x = 0.6\ny = 0.5")))
     with pytest.raises(ConfigError, match=r": start: point \(0\.5, 0\.4\) is inside the model "
-                       r"circle of obstacles\[1\] \(distance 0\.141421 < R 0\.25\)$"):
+                       r"circle of obstacles\[2\] \(distance 0\.141421 < R 0\.25\)$"):
         load_scenario(path)
 
 

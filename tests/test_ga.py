@@ -44,9 +44,33 @@ def test_run_k_alone_equals_run_k_in_a_batch(robocup, batch100, k):
     _same_runs(alone, batch100, slice(0, 1), slice(k, k + 1))
 
 
-def test_chunking_does_not_change_runs(robocup, batch100):
+def test_chunking_and_blocks_do_not_change_runs(robocup, batch100, monkeypatch):
+    from hga_jax import budget
+
+    # Blocks of 3 generations (50 = 16 * 3 + 2: the last block is ragged).
+    monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 7 * 50 * 3)
+    assert budget.plan(9, batch100.settings, 30, 7).block == 3
     part = run_many(robocup, seed=3, runs=30, first_run=10, chunk=7, exact=False)
     _same_runs(part, batch100, slice(None), slice(10, 40))
+
+
+def test_blocks_equal_one_scan_and_run_batch_takes_a_list(robocup, monkeypatch):
+    import jax
+
+    from hga_jax import budget, ga
+
+    s = GASettings(generations=7)
+    monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 4 * 50 * 2)  # blocks of 2: 1+2+2+2+1
+    res = run_many(robocup, s, seed=5, runs=10, chunk=4, exact=False)
+    sa = robocup.arrays()
+    best, history = jax.jit(lambda: ga.run_batch(5, [0, 5, 9], sa, s))()  # a plain list
+    for f in ("perm", "labels", "generation"):
+        assert np.array_equal(np.asarray(getattr(best, f)), getattr(res, f)[[0, 5, 9]]), f
+    for name, value in history._asdict().items():
+        assert np.array_equal(np.asarray(value).T, res.history[name][:, [0, 5, 9]]), name
+    with pytest.raises(TypeError, match="ks: expected a 1-D sequence of integer run indices"):
+        ga.run_batch(5, [0.5, 1.0], robocup.arrays(), s)
+    assert jax.tree.leaves(best)[0].shape[0] == 3
 
 
 def test_history_and_best_so_far(batch100):

@@ -52,7 +52,7 @@ def test_hand_computed_path(tmp_path):
             {"type": "line", "start": [1.0, 1.0], "end": [3.0, 1.0]},
             {"type": "arc", "center": [3.0, 0.0], "radius": 1.0, "start_angle": math.pi / 2,
              "sweep": -math.pi / 2}]
-    fig = plot_path(sc, segs, touched=[(1, -1)], title="length 5.142 m, feasible")
+    fig = plot_path(sc, segs, touched=[{"obstacle": 2, "label": -1}], title="length 5.142 m, feasible")
     ax = fig.axes[0]
     (a1, a2), (line,) = _by_gid(ax, "arc"), _by_gid(ax, "line")
     xy1, xy2 = np.c_[a1.get_data()], np.c_[a2.get_data()]
@@ -119,3 +119,54 @@ def test_convergence_single_panel():
     assert not _by_gid(ax, "optimum")
     assert np.array_equal(_by_gid(ax, "best_median")[0].get_xdata(), np.arange(11))
     assert fig._suptitle.get_text() == "one run"
+
+
+def test_violations_are_located_and_marked(scene):
+    # Straight on through obstacle 1 (label 0): the start-goal line crosses it.
+    path = evaluate_path(scene, [0, 1], [-1, 0, 0, 1])
+    assert path.violations == 1
+    assert path.violations_at == [{"kind": "obstacle", "segment": 0, "obstacle": 1}]
+    assert path.segments[0]["type"] == "line"
+    ax = plot_path(scene, path.segments, violations_at=path.violations_at).axes[0]
+    (piece,) = _by_gid(ax, "violation_piece")
+    assert np.allclose(np.c_[piece.get_data()], [path.segments[0]["start"], path.segments[0]["end"]])
+    (ring,) = _by_gid(ax, "violation_obstacle")
+    assert ring.center == pytest.approx((1.4, 0.5)) and ring.get_edgecolor()[:3] == (1.0, 0.0, 0.0)
+    (cross,) = _by_gid(ax, "violation_point")
+    assert (cross.get_xdata()[0], cross.get_ydata()[0]) == pytest.approx((1.4, 0.5), abs=1e-9)
+    assert "violation: piece" in ax.get_legend_handles_labels()[1]
+
+
+def test_every_violation_is_located():
+    from hga_jax.config import load_scenario
+
+    rng = np.random.default_rng(7)
+    for name in ("robocup_paper", "overlapping"):
+        sc = load_scenario(f"configs/scenarios/{name}.toml")
+        kinds = set()
+        for collision in ("full", "paper"):
+            for _ in range(25):
+                labels = rng.integers(-1, 2, sc.n + 2)
+                labels[[0, -1]] = rng.choice([-1, 1], 2)
+                p = evaluate_path(sc, rng.permutation(sc.n), labels, collision)
+                assert len(p.violations_at) == p.violations
+                kinds |= {v["kind"] for v in p.violations_at}
+                for v in p.violations_at:
+                    assert v["segment"] is None or 0 <= v["segment"] < len(p.segments)
+                    assert (v["obstacle"] is None) == (v["kind"] != "obstacle")
+        assert "obstacle" in kinds
+
+
+def test_optimum_overlay_and_touched_format(scene):
+    path = evaluate_path(scene, [0, 1], [1, 1, 0, 1])
+    other = evaluate_path(scene, [1, 0], [1, 0, 0, 1])
+    ax = plot_path(scene, other.segments, optimum=path.segments, touched=path.touched).axes[0]
+    assert len(_by_gid(ax, "optimum_path")) == len(path.segments)
+    assert path.touched == [(0, 1)] and path.to_dict()["touched"] == [{"obstacle": 1, "label": 1}]
+    for same in (path.touched, path.to_dict()["touched"]):  # Python's pairs, the file's items
+        ax = plot_path(scene, path.segments, touched=same).axes[0]
+        assert [t.get_text() for t in _by_gid(ax, "touched")] == ["CW"]
+    with pytest.raises(TypeError, match="touched: items must be"):
+        plot_path(scene, [], touched=["1CW"])
+    with pytest.raises(ValueError, match=r"touched: obstacle must be in 1\.\.2, got number 3"):
+        plot_path(scene, [], touched=[{"obstacle": 3, "label": 1}])
