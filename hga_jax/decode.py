@@ -137,14 +137,21 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
         ax, ay, length, viol = carry
         circle, nxt, real = xs
         c1x, c1y, c1r, c1s, _, c1 = circle
-        row = table[c1 * c + nxt]  # (B, 8)
+        c2x, c2y, c2r, c2s, _, c2 = nxt
+        row = table[c1 * c + c2]  # (B, 8)
         p1x, p1y, p2x, p2y, tlen = (row[:, i] for i in range(5))
         exists, coincident, tviol = row[:, 5] > 0, row[:, 6] > 0, row[:, 7].astype(jnp.int32)
-        # Coincident circles: continue from the arrival point (the stand-in of a
-        # missing tangent between opposite orientations ends diametrically opposite).
-        p1x, p1y = jnp.where(coincident, ax, p1x), jnp.where(coincident, ay, p1y)
-        p2x = jnp.where(coincident, jnp.where(exists, ax, 2 * c1x - ax), p2x)
-        p2y = jnp.where(coincident, jnp.where(exists, ay, 2 * c1y - ay), p2y)
+        # Coincident centres: the tangent lies on the ray through the arrival point, so
+        # equal circles of one orientation go on from there; a missing tangent's
+        # stand-in joins the two circles along that ray (its length is the table's).
+        wx, wy = ax - c1x, ay - c1y
+        norm = jnp.sqrt(wx * wx + wy * wy)
+        norm = jnp.where(norm > 0, norm, 1.0)
+        wx, wy, turn = wx / norm, wy / norm, c1s * c2s * c2r
+        p1x = jnp.where(coincident, c1x + c1r * wx, p1x)
+        p1y = jnp.where(coincident, c1y + c1r * wy, p1y)
+        p2x = jnp.where(coincident, c2x + turn * wx, p2x)
+        p2y = jnp.where(coincident, c2y + turn * wy, p2y)
         swp = g.sweep(ax - c1x, ay - c1y, p1x - c1x, p1y - c1y, c1s, tol.angle)
         v = arc_violations(circle, (ax, ay), (p1x, p1y), swp) + tviol
         zero = jnp.zeros_like(swp)
@@ -165,7 +172,8 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
     sx = jnp.broadcast_to(sa.start[0], (batch,)).astype(dt)
     sy = jnp.broadcast_to(sa.start[1], (batch,)).astype(dt)
     init = (sx, sy, jnp.zeros((batch,), dt), jnp.zeros((batch,), jnp.int32))
-    (ax, ay, length, viol), (arcs, lines) = jax.lax.scan(leg, init, (first, ids[1:], real))
+    second = tuple(col[1:] for col in cols)
+    (ax, ay, length, viol), (arcs, lines) = jax.lax.scan(leg, init, (first, second, real))
 
     # The goal arc: on the last circle, from the arrival point to the goal point.
     last = count - 1

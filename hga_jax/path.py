@@ -24,6 +24,7 @@ from .errors import ConfigError
 from .scenario import Scenario
 
 _decode = jax.jit(decode_batch, static_argnames="collision")
+TINY = 1e-12  # m: a line this short is rounding (e.g. between coincident circles)
 BLOCK = 64  # float64 decoding always runs on blocks of this many rows
 
 
@@ -55,7 +56,7 @@ class Path:
     length: metres (arcs + lines, no penalty). violations: count (docs/model.md).
     upper, lower: the chromosome (upper ``[0, ..., n+1]``, lower labels).
     segments: segment dicts of the result files in travel order (zero-length pieces
-      left out).
+      left out, and lines shorter than ``TINY``: rounding, with no direction).
     touched: ``(obstacle index from 0, label +1 CW / -1 CCW)`` pairs in travel order, as
       in :class:`~hga_jax.exact.ExactResult`; ``to_dict`` writes them in the result
       files' format, ``{"obstacle": number from 1, "label": ...}``.
@@ -138,7 +139,7 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
                             len(segments) - 1 if drawn else None)
         if s < count - 1:
             p1x, p1y, p2x, p2y, exists = (float(v) for v in d.lines[s])
-            drawn = bool(np.hypot(p2x - p1x, p2y - p1y) > 0.0)
+            drawn = bool(np.hypot(p2x - p1x, p2y - p1y) > TINY)
             if drawn:
                 segments.append({"type": "line", "start": [p1x, p1y], "end": [p2x, p2y]})
             where += locate.line((p1x, p1y, p2x, p2y), exists > 0.5,

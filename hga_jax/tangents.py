@@ -10,10 +10,11 @@ A tangent depends only on its two circles, so its touch points, its length and i
 violations (the segment against every obstacle, by the full or the paper criterion;
 the field; a missing tangent) are computed here once per scenario, on the host, with
 the functions of :mod:`hga_jax.geometry` in the scenario's float dtype. Decoding a
-leg is then a lookup; only the arcs depend on the chromosome. Coincident circles (a
-start and a goal circle on the same turning circle) have no fixed tangent: the
-decoder continues along the circle from where the path arrived, and their entry
-counts only a missing tangent (opposite orientations), no segment.
+leg is then a lookup; only the arcs depend on the chromosome. Circles with coincident
+centres (a start and a goal circle on the same turning circle) have no fixed
+tangent: the decoder puts it on the ray through the point where the path arrived
+(so equal circles of one orientation go on along the circle from there), and their
+entry counts only a missing tangent (other radii or orientations), no segment.
 
 Units: metres. Host code (numpy), called by :meth:`hga_jax.scenario.Scenario.arrays`.
 """
