@@ -130,5 +130,10 @@ def plan(n: int, settings: GASettings, runs: int, chunk: int | None, devices: in
     if size > fit_runs:
         size -= devices
     block = max(1, min(g, math.ceil(BLOCK_WORK / max(n, 4) / (size * p)))) if g else 1
+    # A block that divides the generations needs no masked steps: take the nearest
+    # divisor within a factor of two, if there is one.
+    near = [d for d in range(max(1, block // 2), min(g, 2 * block) + 1) if g % d == 0]
+    if near:
+        block = min(near, key=lambda d: (abs(d - block), d))
     return Plan(chunk=size, batches=math.ceil(runs / size), block=block,
                 device_bytes=device_bytes(n, settings, size, block), host_bytes=host)
