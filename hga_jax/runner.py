@@ -26,6 +26,8 @@ from .scenario import Scenario
 from .settings import GASettings
 
 CHROMOSOMES_PER_CHUNK = 50_000  # beyond this the working set leaves the cache
+_COMPILED: dict[Any, Any] = {}  # recent compiled batches (a study reuses them across scenes)
+_COMPILED_KEEP = 16
 
 
 def enable_compilation_cache(path: str | None = None) -> str | None:
@@ -99,7 +101,14 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
         t0 = time.perf_counter()
         ks0 = ks_all[:chunk]
         ks0 = jax.device_put(ks0, sharding) if sharding else ks0
-        compiled = jax.jit(fn).lower(ks0, sa).compile()
+        # The program depends on the seed, settings, chunk and array shapes, not on
+        # the scenario's values: scenes of one size share it.
+        memo = (seed, settings, chunk, np.dtype(dtype).name, sharding is None,
+                tuple(np.shape(a) for a in sa))
+        compiled = _COMPILED.pop(memo, None) or jax.jit(fn).lower(ks0, sa).compile()
+        _COMPILED[memo] = compiled
+        while len(_COMPILED) > _COMPILED_KEEP:
+            _COMPILED.pop(next(iter(_COMPILED)))
         compile_s = time.perf_counter() - t0
         t0 = time.perf_counter()
         outs = []
