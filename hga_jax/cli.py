@@ -1,4 +1,5 @@
-"""The ``hga-jax`` command: ``run`` (many seeded GA runs), ``exact`` (the optimum), ``check``.
+"""The ``hga-jax`` command: ``run`` (many seeded GA runs), ``exact`` (the optimum), ``check``,
+``study`` (a grid of settings over scenes; :mod:`hga_jax.study.cli`).
 
 Settings are layered: the paper's defaults, the scenario's ``[ga]`` table, a
 ``--ga`` TOML file (top-level keys are settings), then command-line flags.
@@ -19,6 +20,7 @@ from .config import load_scenario
 from .errors import ConfigError
 from .settings import (COLLISIONS, PERM_CROSSOVERS, PERM_MUTATIONS, PRECISIONS, SELECTIONS,
                        GASettings)
+from .study import cli as study_cli
 
 DEFAULT_SCENARIO = os.path.join("configs", "scenarios", "robocup_paper.toml")
 
@@ -63,6 +65,8 @@ def _parser() -> argparse.ArgumentParser:
     ck = sub.add_parser("check", help="validate scenario (and --ga) files and exit")
     ck.add_argument("scenario", nargs="+")
     ck.add_argument("--ga")
+
+    study_cli.add_parser(sub)  # hga-jax study: see hga_jax/study/cli.py
     return p
 
 
@@ -171,7 +175,8 @@ def _cmd_check(args) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    command = {"run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check}[args.command]
+    command = {"run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check,
+               "study": study_cli.run}[args.command]
     try:
         return command(args)
     except ConfigError as e:
