@@ -6,17 +6,14 @@ elitism, and a pc/pm grid, over clutter and obstructed scene families
 Usage: ``python3 experiments/operator_study.py [--quick] [--out DIR]``
 (the same as ``hga-jax study configs/studies/operator_study.toml``).
 """
-import os
+
 import sys
 
 from hga_jax.study.cli import script
 
-CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs", "studies",
-                      "operator_study.toml")
-
 
 def main(argv=None) -> int:
-    return script(CONFIG, argv, __doc__.splitlines()[0])
+    return script(__file__, argv, __doc__)
 
 
 if __name__ == "__main__":

@@ -5,17 +5,14 @@ path that the full test finds colliding, and penalty weights other than 2*pi*R
 Usage: ``python3 experiments/penalty_and_collision.py [--quick] [--out DIR]``
 (the same as ``hga-jax study configs/studies/penalty_and_collision.toml``).
 """
-import os
+
 import sys
 
 from hga_jax.study.cli import script
 
-CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs", "studies",
-                      "penalty_and_collision.toml")
-
 
 def main(argv=None) -> int:
-    return script(CONFIG, argv, __doc__.splitlines()[0])
+    return script(__file__, argv, __doc__)
 
 
 if __name__ == "__main__":

@@ -4,17 +4,14 @@ GA time per run against the exact solver's time (``configs/studies/scaling.toml`
 Usage: ``python3 experiments/scaling.py [--quick] [--out DIR]``
 (the same as ``hga-jax study configs/studies/scaling.toml``).
 """
-import os
+
 import sys
 
 from hga_jax.study.cli import script
 
-CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs", "studies",
-                      "scaling.toml")
-
 
 def main(argv=None) -> int:
-    return script(CONFIG, argv, __doc__.splitlines()[0])
+    return script(__file__, argv, __doc__)
 
 
 if __name__ == "__main__":

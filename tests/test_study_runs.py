@@ -158,7 +158,7 @@ def test_penalty_and_collision_quick_counts_accepted_collisions(tmp_path):
 def test_scaling_quick_reports_times(tmp_path):
     assert _script("scaling").main(["--quick", "--out", str(tmp_path), "--quiet"]) == 0
     table = _csv(tmp_path / "scaling.csv")
-    assert [int(t["obstacles"]) for t in table] == [5, 12]
+    assert [int(t["obstacles"]) for t in table] == [5, 9]
     rows = _csv(tmp_path / "runs.csv")
     for t in table:
         mine = [r for r in rows if int(r["obstacles"]) == int(t["obstacles"])]
@@ -172,7 +172,7 @@ def test_scaling_quick_reports_times(tmp_path):
 
 
 RESUME = """name = "resume"
-runs = 300
+runs = 40
 [[families]]
 name = "c"
 kind = "clutter"
@@ -180,7 +180,7 @@ obstacles = [9]
 scenes = 8
 seed = 4
 [ga]
-generations = 20
+generations = 30
 """
 
 
@@ -214,14 +214,14 @@ def test_a_killed_study_resumes_without_losing_or_repeating(tmp_path):
         assert (cells / p).read_bytes() == data and os.stat(cells / p).st_mtime_ns == stamps[p]
     assert not [p for p in os.listdir(cells) if p.startswith(".tmp-")]
     rows = _csv(out / "runs.csv")
-    assert len(rows) == 8 * 300
+    assert len(rows) == 8 * 40
     assert len({(r["scenario"], r["run"]) for r in rows}) == len(rows)
     for p, data in before.items():  # every run of a cell finished before the kill is kept
         doc = json.loads(data)
         mine = [r for r in rows if r["scenario"] == doc["scenario"]]
         assert [float(r["length"]) for r in mine] == doc["columns"]["length"]
     again = run_study(str(cfg), out=str(out), progress=False)
-    assert again.cells_run == 0 and again.table.rows == 8 * 300
+    assert again.cells_run == 0 and again.table.rows == 8 * 40
     assert _csv(out / "runs.csv") == rows
 
 
@@ -279,3 +279,26 @@ def test_an_operator_registered_outside_the_package_takes_part(tmp_path, registr
         perm_ops.register_crossover("keep_parents", lambda k, a, b: (b, a))
     with pytest.raises(ValueError, match="identifier"):
         perm_ops.register_mutation("my op", lambda k, p: p)
+
+
+def test_baselines_quick_random_search_is_one_generation(tmp_path):
+    assert _script("baselines").main(["--quick", "--out", str(tmp_path), "--quiet"]) == 0
+    rows = _csv(tmp_path / "runs.csv")
+    rs = [r for r in rows if r["config"].startswith("random search")]
+    ga = [r for r in rows if r["config"] == "paper GA"]
+    assert len(rs) == len(ga) == 2 * 40
+    assert {(r["population"], r["generations"], r["evaluations"]) for r in rs} == {
+        ("1550", "0", "1550")}
+    assert {r["evaluations"] for r in ga} == {"1550"}  # equal evaluations: 50 x 31
+    assert {r["generation_best"] for r in rs} == {"0"}
+    assert {r["evaluations_hit"] for r in rs} <= {"", "1550"}
+    for r in rs + ga:
+        assert r["gap"] == "" or float(r["gap"]) >= -1e-9
+    summary = {(s["group"], s["config"]): s for s in _csv(tmp_path / "summary.csv")}
+    for (group, config), s in summary.items():
+        mine = [r for r in rows if r["family"] == group and r["config"] == config]
+        assert float(s["time_per_run_ms"]) == pytest.approx(
+            1000 * np.mean([float(r["time_s"]) for r in mine]))
+    # The GA's operators beat sampling at equal evaluations on these scenes.
+    gaps = lambda rs_: np.median([_num(r["gap"]) for r in rs_])  # noqa: E731
+    assert gaps(ga) < gaps(rs)

@@ -41,17 +41,21 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def script(config: str, argv=None, description: str = "") -> int:
-    """``main`` of a study script in ``experiments/``: the study file ``config`` with
-    ``--quick``, ``--out`` and ``--quiet``; errors end like ``hga-jax`` (one line, exit 2)."""
+def script(path: str, argv=None, doc: str = "") -> int:
+    """``main`` of a study script ``experiments/<name>.py`` (its ``__file__`` is
+    ``path``): the study file ``configs/studies/<name>.toml`` with the options of
+    ``hga-jax study``; errors end like ``hga-jax`` (one line, exit 2)."""
+    import os
     import sys
 
     from ..errors import ConfigError
 
-    p = argparse.ArgumentParser(description=description)
+    name = os.path.splitext(os.path.basename(path))[0]
+    p = argparse.ArgumentParser(prog=f"{name}.py", description=doc.strip().splitlines()[0])
     _options(p)
     args = p.parse_args(argv)
-    args.config = config
+    root = os.path.dirname(os.path.dirname(os.path.abspath(path)))
+    args.config = os.path.join(root, "configs", "studies", name + ".toml")
     try:
         return run(args)
     except ConfigError as e:

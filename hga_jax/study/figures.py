@@ -66,13 +66,22 @@ def gap_ecdf(table: Table, configs: list[str], path: str) -> str:
             m = (table["family"] == group) & (table["config"] == c)
             if m.any():
                 ax.step(grid, stats.ecdf(gap[m], grid), where="post", color=col, label=c, lw=1.2)
-        ax.set_xscale("log")
-        ax.set_xlabel("gap to the exact optimum (hits drawn at 1e-6)")
-        ax.set_ylabel("fraction of runs with gap at most x")
-        ax.set_title(f"{group}: ECDF of final gaps (infeasible runs never count)", fontsize=9)
-        ax.grid(alpha=0.3)
+        _label(ax, "gap to the exact optimum (hits drawn at 1e-6)",
+               "fraction of runs with gap at most x",
+               f"{group}: ECDF of final gaps (infeasible runs never count)", xlog=True)
     axes[0][-1].legend(fontsize=6, loc="lower right")
     return save(fig, path)
+
+
+def _label(ax, xlabel: str, ylabel: str, title: str, xlog=False, ylog=False) -> None:
+    if xlog:
+        ax.set_xscale("log")
+    if ylog:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
 
 
 def evaluations_ecdf(table: Table, configs: list[str], path: str) -> str:
@@ -105,11 +114,8 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
             pop = ds[0]["settings"]["population"]
             ax.plot(pop * (np.arange(len(med)) + 1), np.maximum(med, GAP_FLOOR), color=col,
                     label=c, lw=1.2)
-        ax.set_yscale("log")
-        ax.set_xlabel("evaluations")
-        ax.set_ylabel("best-so-far Dist_m / optimum - 1")
-        ax.set_title(f"{group}: median over runs, then over scenes", fontsize=9)
-        ax.grid(alpha=0.3)
+        _label(ax, "evaluations", "best-so-far Dist_m / optimum - 1",
+               f"{group}: median over runs, then over scenes", ylog=True)
     axes[0][-1].legend(fontsize=6, loc="upper right")
     return save(fig, path)
 
