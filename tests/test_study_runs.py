@@ -107,7 +107,8 @@ def test_reproduce_paper_quick_summary_and_claims(paper_quick):
     assert "| optimum reached by generation | 27 |" in claims
     manifest = json.loads((paper_quick / "study.json").read_text())
     assert manifest["cells"] == manifest["cells_finished"] == 3 and manifest["quick"]
-    for png in ("hit_rate", "gap_ecdf", "evaluations_ecdf", "convergence", "paper_fig4_best_path",
+    for png in ("hit_rate", "gap_ecdf", "evaluations_ecdf", "time_ecdf", "convergence",
+                "paper_fig4_best_path",
                 "paper_fig5_fitness"):
         assert (paper_quick / "figures" / f"{png}.png").read_bytes()[:4] == b"\x89PNG"
 

@@ -1,5 +1,5 @@
 """PNG figures of a study: hit rates with intervals, ECDFs of gaps and of evaluations
-to target, and convergence curves."""
+(and seconds) to target, and convergence curves."""
 from __future__ import annotations
 
 import os
@@ -84,18 +84,25 @@ def _label(ax, xlabel: str, ylabel: str, title: str, xlog=False, ylog=False) -> 
     ax.grid(alpha=0.3)
 
 
-def evaluations_ecdf(table: Table, configs: list[str], path: str) -> str:
+def evaluations_ecdf(table: Table, configs: list[str], path: str, seconds: bool = False) -> str:
+    """ECDF of evaluations (or, with ``seconds``, of search time: evaluations times the
+    configuration's mean seconds per evaluation) to each target gap."""
     fig, axes = plt.subplots(1, len(TARGETS), figsize=(4.5 * len(TARGETS), 4), sharey=True)
-    top = float(table.numeric("evaluations").max())
+    evals, secs = table.numeric("evaluations"), table.numeric("time_s")
+    scale = {c: float(secs[m].sum() / evals[m].sum()) if seconds else 1.0
+             for c in configs if (m := table["config"] == c).any()}
+    top = max(float(evals[table["config"] == c].max()) * k for c, k in scale.items())
     grid = np.linspace(0, top, 400)
     for ax, t in zip(axes, TARGETS):
         e = table.numeric(target_column(t))
         for c, col in zip(configs, _colours(len(configs))):
             m = table["config"] == c
-            ax.step(grid, stats.ecdf(e[m], grid), where="post", color=col, label=c, lw=1.2)
+            if m.any():
+                ax.step(grid, stats.ecdf(e[m] * scale[c], grid), where="post", color=col,
+                        label=c, lw=1.2)
         ax.set_title("optimum (gap < 1e-6)" if t == 0 else f"within {100 * t:g}% of optimum",
                      fontsize=9)
-        ax.set_xlabel("evaluations")
+        ax.set_xlabel("seconds of search per run" if seconds else "evaluations")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("fraction of runs that reached the target")
     axes[-1].legend(fontsize=6, loc="upper left")
@@ -126,6 +133,7 @@ def all_figures(table: Table, docs: list[dict[str, Any]], rows: list[dict[str, A
     j = lambda name: os.path.join(folder, name)  # noqa: E731
     out = [hit_rates(rows, j("hit_rate.png")), gap_ecdf(table, configs, j("gap_ecdf.png")),
            evaluations_ecdf(table, configs, j("evaluations_ecdf.png")),
+           evaluations_ecdf(table, configs, j("time_ecdf.png"), seconds=True),
            convergence(docs, configs, j("convergence.png"))]
     plt.close("all")
     return out
