@@ -1,4 +1,5 @@
-"""The DEAP version of the paper's GA (an optional baseline; skipped without deap)."""
+"""Optional baselines: the DEAP version of the paper's GA and OMPL's Dubins planners
+(each skipped when its package is missing)."""
 import csv
 import importlib.util
 import os
@@ -6,19 +7,22 @@ import random
 
 import pytest
 
-pytest.importorskip("deap")
+from hga_jax.config import load_scenario
+from hga_jax.exact import solve
 
-from hga_jax.config import load_scenario  # noqa: E402
-from hga_jax.exact import solve  # noqa: E402
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, os.path.join("experiments", "baselines",
+                                                                     name + ".py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 @pytest.fixture(scope="module")
 def deap_hga():
-    path = os.path.join("experiments", "baselines", "deap_hga.py")
-    spec = importlib.util.spec_from_file_location("deap_hga", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    pytest.importorskip("deap")
+    return _load("deap_hga")
 
 
 def test_cycle_crossover_by_hand(deap_hga):
@@ -55,3 +59,20 @@ def test_deap_runs_are_seeded_and_measured_against_the_optimum(deap_hga, tmp_pat
     again = tmp_path / "again.csv"
     assert deap_hga.main(args[:-1] + [str(again)]) == 0
     assert [r["length"] for r in csv.DictReader(again.open())] == [r["length"] for r in rows]
+
+
+def test_ompl_paths_are_checked_with_the_models_clearance():
+    pytest.importorskip("ompl")
+    import numpy as np
+
+    om = _load("ompl_dubins")
+    sc = load_scenario("configs/scenarios/robocup_paper.toml")
+    c, big = sc.centres[1], sc.model_radii[1]
+    inside = np.array([[c[0] + 0.5 * big, c[1]], [0.3, 0.6]])
+    assert om.dense_violations(sc, inside) == 1
+    assert om.dense_violations(sc, np.array([[c[0] + big + 1e-6, c[1]]])) == 0
+    assert om.dense_violations(sc, np.array([[0.05, 1.0]])) == 1  # off the kept field
+    r = om.plan(sc, "BITstar", 0.3, 0)
+    a, b = np.array(sc.start[:2]), np.array(sc.goal[:2])
+    assert r["solved"] and r["length"] > np.hypot(*(b - a))
+    assert r["seconds"] == pytest.approx(0.3, abs=0.5)
