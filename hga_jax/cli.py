@@ -1,5 +1,6 @@
 """The ``hga-jax`` command: ``run`` (many seeded GA runs), ``exact`` (the optimum),
-``check`` (validate files) and ``plot`` (redraw a result file).
+``check`` (validate files), ``plot`` (redraw a result file) and ``study`` (a grid of
+settings over scenes; :mod:`hga_jax.study.cli`).
 
 Settings are layered: the paper's defaults, the scenario's ``[ga]`` table, a
 ``--ga`` TOML file (top-level keys are settings), then command-line flags; an
@@ -31,6 +32,7 @@ from .config import load_scenario
 from .errors import ConfigError, Interrupted, ModelMismatchError
 from .settings import (COLLISIONS, PERM_CROSSOVERS, PERM_MUTATIONS, PRECISIONS, SELECTIONS,
                        GASettings)
+from .study import cli as study_cli
 
 DEFAULT_SCENARIO = os.path.join("configs", "scenarios", "robocup_paper.toml")
 PAPER = GASettings()
@@ -117,6 +119,8 @@ def _parser() -> argparse.ArgumentParser:
                     "path_run<K>.png with --run, beside the result file)")
     pl.add_argument("--force", action="store_true", help="replace an existing PNG")
     pl.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on disk")
+
+    study_cli.add_parser(sub)  # hga-jax study: see hga_jax/study/cli.py
     return p
 
 
@@ -316,7 +320,8 @@ def _silence_stdout() -> None:
 
 
 COMMANDS: dict[str, Callable[[Any], int]] = {
-    "run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check, "plot": _cmd_plot}
+    "run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check, "plot": _cmd_plot,
+    "study": study_cli.run}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -84,16 +84,29 @@ def run_key(seed: int, k):
     return jax.random.fold_in(jax.random.key(seed), k)
 
 
+def positional(perm, labels, settings: GASettings):
+    """Labels in the decoder's (positional) order. With ``label_binding = "obstacle"``
+    the population stores label ``1 + i`` for obstacle ``i``; positions take
+    ``labels[1 + perm[k]]``."""
+    if settings.label_binding == "position" or perm.shape[-1] == 0:
+        return labels
+    middle = jnp.take_along_axis(labels[..., 1:-1], perm, axis=-1)
+    return jnp.concatenate([labels[..., :1], middle, labels[..., -1:]], axis=-1)
+
+
 def _evaluated(sa, perm, labels, settings) -> Population:
-    e = evaluate(sa, perm, labels, settings.collision)
+    if settings.penalty_weight != 1.0:
+        sa = sa._replace(delta=sa.delta * settings.penalty_weight)
+    e = evaluate(sa, perm, positional(perm, labels, settings), settings.collision)
     return Population(perm, labels, e.fitness, e.length, e.violations)
 
 
-def _update_best(best: Best, pop: Population, generation) -> Best:
+def _update_best(best: Best, pop: Population, generation, settings: GASettings) -> Best:
+    """``best`` keeps positional labels whatever the population's binding."""
     i = jnp.argmax(pop.fitness)
     better = pop.fitness[i] > best.fitness
-    cand = Best(pop.perm[i], pop.labels[i], pop.fitness[i], pop.length[i], pop.violations[i],
-                jnp.asarray(generation, jnp.int32))
+    cand = Best(pop.perm[i], positional(pop.perm[i], pop.labels[i], settings), pop.fitness[i],
+                pop.length[i], pop.violations[i], jnp.asarray(generation, jnp.int32))
     return jax.tree.map(lambda new, old: jnp.where(better, new, old), cand, best)
 
 
@@ -112,7 +125,7 @@ def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
     pop = _evaluated(sa, perm, labels, settings)
     worst = Best(perm[0], labels[0], jnp.asarray(-jnp.inf, pop.fitness.dtype), pop.length[0],
                  pop.violations[0], jnp.asarray(0, jnp.int32))
-    return GAState(pop, _update_best(worst, pop, 0))
+    return GAState(pop, _update_best(worst, pop, 0, settings))
 
 
 def _pairwise(key, op, prob, a, b):
@@ -160,7 +173,7 @@ def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generati
         elite = jnp.argsort(-old.fitness)[:e]
         worst = jnp.argsort(pop.fitness)[:e]
         pop = jax.tree.map(lambda new, prev: new.at[worst].set(prev[elite]), pop, old)
-    best = _update_best(state.best, pop, generation)
+    best = _update_best(state.best, pop, generation, settings)
     return GAState(pop, best), _record(pop, best)
 
 

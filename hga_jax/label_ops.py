@@ -22,7 +22,7 @@ import jax
 import jax.numpy as jnp
 from jax import Array
 
-from .perm_ops import cut_draw, uniform_int
+from .perm_ops import cut_draw, register, uniform_int
 
 LabelCrossover = Callable[[Array, Array, Array], tuple[Array, Array]]
 
@@ -100,3 +100,13 @@ def redraw(key: Array, labels: Array, pm: float | Array) -> Array:
 
 
 CROSSOVERS: dict[str, LabelCrossover] = {"two_point": two_point}
+
+
+def register_crossover(name: str, fn: LabelCrossover) -> None:
+    """Make ``fn(key, a, b) -> (c1, c2)`` usable as ``label_crossover = name``.
+
+    ``fn`` takes one pair of label vectors of length ``L`` and returns two whose
+    genes stay in their positions' allowed sets (ends ``{-1, +1}``, others
+    ``{-1, 0, +1}``); pure, jit- and vmap-able, randomness from ``key`` alone.
+    """
+    register(CROSSOVERS, name, fn)

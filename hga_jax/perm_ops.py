@@ -258,3 +258,32 @@ def exchange(key: Array, p: Array) -> Array:
 
 CROSSOVERS: dict[str, Crossover] = {"cx": cx, "pmx": pmx, "ox1": ox1}
 MUTATIONS: dict[str, Mutation] = {"inversion": inversion, "exchange": exchange}
+
+
+def register(registry: dict, name: str, fn: Callable) -> None:
+    """Add ``fn`` to ``registry`` under ``name`` (an identifier not yet taken by
+    another function); settings then accept ``name``. Used by the ``register_*``
+    functions."""
+    if not (isinstance(name, str) and name.isidentifier()):
+        raise ValueError(f"operator name must be an identifier, got {name!r}")
+    if not callable(fn):
+        raise TypeError(f"operator {name!r} must be callable, got {fn!r}")
+    if registry.get(name, fn) is not fn:
+        raise ValueError(f"operator {name!r} is already registered")
+    registry[name] = fn
+
+
+def register_crossover(name: str, fn: Crossover) -> None:
+    """Make ``fn(key, a, b) -> (c1, c2)`` usable as ``perm_crossover = name``.
+
+    ``fn`` follows this module's conventions: one pair of permutations of
+    ``0..n-1`` in, two permutations out, shapes depending on ``n`` only, pure
+    (jit- and vmap-able), randomness from ``key`` alone.
+    """
+    register(CROSSOVERS, name, fn)
+
+
+def register_mutation(name: str, fn: Mutation) -> None:
+    """Make ``fn(key, p) -> p'`` usable as ``perm_mutation = name`` (conventions as
+    :func:`register_crossover`)."""
+    register(MUTATIONS, name, fn)

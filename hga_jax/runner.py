@@ -30,6 +30,19 @@ from .results import RunsResult
 from .scenario import Scenario
 from .settings import GASettings
 
+_COMPILED: dict[Any, Any] = {}  # recent compiled programs (a study reuses them across scenes)
+_COMPILED_KEEP = 16
+
+
+def _compiled(key: tuple, build: Callable[[], Any]) -> Any:
+    """The compiled program for ``key``, built by ``build()`` unless one of the recent
+    ones fits. Programs depend on the seed, settings, batch and array shapes, not on
+    the scenario's values, so scenes of one size share them."""
+    program = _COMPILED.pop(key, None) or build()
+    _COMPILED[key] = program
+    while len(_COMPILED) > _COMPILED_KEEP:
+        _COMPILED.pop(next(iter(_COMPILED)))
+    return program
 
 
 def enable_compilation_cache(path: str | None = None,
@@ -121,9 +134,11 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
         with jax.enable_x64(dtype == np.float64):
             sa = scenario.arrays(dtype)
             t0 = time.perf_counter()
-            begin = jax.jit(functools.partial(start_batch, seed, settings=settings))
+            shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
+                      tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
             ks0 = _put(ks_all[:size], sharding)
-            begin = begin.lower(ks0, sa).compile()
+            begin = _compiled(("begin", seed, settings) + shapes, lambda: jax.jit(
+                functools.partial(start_batch, seed, settings=settings)).lower(ks0, sa).compile())
             compile_s, search_s = time.perf_counter() - t0, 0.0
             compiling = False
             step = None
@@ -136,9 +151,9 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
                 if step is None and gens:
                     t1 = time.perf_counter()
                     compiling = True
-                    step = jax.jit(functools.partial(advance_batch, settings=settings,
-                                                     steps=cut.block))
-                    step = step.lower(state, keys, np.int32(1), sa).compile()
+                    step = _compiled(("step", settings) + shapes, lambda: jax.jit(
+                        functools.partial(advance_batch, settings=settings, steps=cut.block)
+                    ).lower(state, keys, np.int32(1), sa).compile())
                     compile_s += time.perf_counter() - t1
                     compiling = False
                     t0 += time.perf_counter() - t1

@@ -11,6 +11,14 @@ Probability conventions:
 - ``pm_upper``: per *individual*, the chance that the permutation is mutated once.
 - ``pm_lower``: per *gene*, the chance that a label is redrawn (to another value
   of its allowed set).
+
+``label_binding``: ``"position"`` (the paper: the label at position ``k`` turns
+the obstacle at position ``k`` of the permutation) or ``"obstacle"`` (label
+``1 + i`` belongs to obstacle ``i`` wherever the permutation puts it, so
+crossover and mutation of the permutation keep each obstacle's turning
+direction). ``penalty_weight`` scales the paper's penalty per violation
+``2*pi*R`` during the search (1 = the paper); reported lengths, feasibility and
+gaps do not depend on it.
 """
 from __future__ import annotations
 
@@ -22,9 +30,10 @@ from typing import Any, Callable, Mapping, Sequence
 from .errors import ConfigError
 
 SELECTIONS = ("roulette", "tournament")
-PERM_CROSSOVERS = ("cx", "pmx", "ox1")
+PERM_CROSSOVERS = ("cx", "pmx", "ox1")  # built in; more can be registered (perm_ops)
 PERM_MUTATIONS = ("inversion", "exchange")
 LABEL_CROSSOVERS = ("two_point",)
+LABEL_BINDINGS = ("position", "obstacle")
 COLLISIONS = ("full", "paper")
 PRECISIONS = ("float32", "float64")
 
@@ -47,6 +56,8 @@ class GASettings:
     elites: int = 0
     collision: str = "full"
     precision: str = "float32"
+    label_binding: str = "position"
+    penalty_weight: float = 1.0
 
     def __post_init__(self) -> None:
         self.validate("<settings>")
@@ -87,11 +98,18 @@ class GASettings:
                 raise bad(key, f"must be a number, got {v!r}")
             if not (math.isfinite(v) and 0.0 <= v <= 1.0):
                 raise bad(key, f"must be a probability in [0, 1], got {v!r}")
+        w = self.penalty_weight
+        if isinstance(w, bool) or not isinstance(w, (int, float)) or not (
+                math.isfinite(w) and w > 0):
+            raise bad("penalty_weight", f"must be a finite number > 0, got {w!r}")
+        from . import label_ops, perm_ops  # registries: built-in and registered operators
+
         for key, allowed in (
             ("selection", SELECTIONS),
-            ("perm_crossover", PERM_CROSSOVERS),
-            ("perm_mutation", PERM_MUTATIONS),
-            ("label_crossover", LABEL_CROSSOVERS),
+            ("perm_crossover", tuple(perm_ops.CROSSOVERS)),
+            ("perm_mutation", tuple(perm_ops.MUTATIONS)),
+            ("label_crossover", tuple(label_ops.CROSSOVERS)),
+            ("label_binding", LABEL_BINDINGS),
             ("collision", COLLISIONS),
             ("precision", PRECISIONS),
         ):

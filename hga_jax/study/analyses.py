@@ -1,0 +1,196 @@
+"""Extra reports that a study file asks for with ``analyses = [...]``.
+
+- ``paper``: on the study's first scene with the reference configuration, the
+  analogues of the paper's Fig. 4 (best path found) and Fig. 5 (best fitness over
+  generations: one run, and median with quartile band over all runs, the optimum
+  as a line), and a table of our measurements beside the paper's claims.
+- ``penalty``: how often a run's best path, feasible under the run's collision
+  test, collides under the full test (the paper's Appendix B criterion misses
+  segments that start inside a model circle).
+- ``scaling``: per obstacle count, hit rate, gap, GA time per run and exact solver
+  time.
+"""
+from __future__ import annotations
+
+import math
+import os
+from typing import Any
+
+import numpy as np
+
+from ..config import load_scenario
+from ..fitness import fitness_of
+from ..path import evaluate_path, from_chromosome
+from ..plots import plot_path
+from ..results import _atomic_write, write_csv
+from . import stats
+from .figures import plt, save
+from .table import Table
+
+PAPER_CLAIMS = {  # the paper's section 4 (one run on its Fig. 4 scene, MATLAB)
+    "generation_optimum": 27, "generation_near_optimal": 11, "seconds_per_run": 5.0,
+    "generations": 50,
+}
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.1f}%"
+
+
+def _median_int(values) -> str:
+    v = [x for x in values if x is not None and x >= 0]
+    return f"{np.median(v):g} (quartiles {np.percentile(v, 25):g}-{np.percentile(v, 75):g})" \
+        if v else "never"
+
+
+def paper(study, tab: Table, docs, rows, folder: str) -> list[str]:
+    ref = study.configs[0].label
+    doc = next(d for d in docs if d["config"] == ref)
+    sc = load_scenario(doc["scenario_file"])
+    files = []
+    best = doc["best"]
+    path = evaluate_path(sc, *from_chromosome(best["upper"], best["lower"], sc.n))
+    fig = plot_path(sc, path.segments, touched=path.touched, title=(
+        f"{sc.name}: best of {doc['runs']} runs, {path.length:.4f} m "
+        f"(optimum {doc['optimum']:.4f} m)"))
+    files.append(save(fig, os.path.join(folder, "figures", "paper_fig4_best_path.png")))
+
+    cur = doc["curves"]
+    gens = np.arange(len(cur["run0_best_fitness"]))
+    opt_fit = fitness_of(doc["optimum"], 0, sc.delta)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    a1.plot(gens, cur["run0_best_fitness"], color="tab:blue", label="best of generation")
+    a1.plot(gens, cur["run0_best_so_far_fitness"], color="tab:orange", ls="--",
+            label="best so far")
+    a1.set_title(f"one run (run 0 of seed {doc['seed']})", fontsize=9)
+    q = np.asarray(cur["best_fitness"])
+    a2.fill_between(gens, q[0], q[2], color="tab:blue", alpha=0.25, label="quartiles")
+    a2.plot(gens, q[1], color="tab:blue", label="median best of generation")
+    a2.plot(gens, np.asarray(cur["best_so_far_fitness"])[1], color="tab:orange", ls="--",
+            label="median best so far")
+    a2.set_title(f"{doc['runs']} runs", fontsize=9)
+    for ax in (a1, a2):
+        ax.axhline(opt_fit, color="k", lw=0.8, label="exact optimum")
+        ax.set_xlabel("generation")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="lower right")
+    a1.set_ylabel("fitness 10000 / (Dist_m + 1)")
+    fig.suptitle(f"{sc.name}: fitness over generations ({ref})", fontsize=10)
+    files.append(save(fig, os.path.join(folder, "figures", "paper_fig5_fitness.png")))
+
+    out = []
+    for group in dict.fromkeys(tab["family"].tolist()):
+        m = (tab["family"] == group) & (tab["config"] == ref)
+        n, k = int(m.sum()), int(tab["hit"][m].astype(bool).sum())
+        lo, hi = stats.wilson(k, n)
+        g_hit, g_near = tab["generation_hit"][m], tab["generation_1pct"][m]
+        out.append({
+            "group": group, "scenes": len(set(tab["scenario"][m].tolist())), "runs": n,
+            "hit_rate": k / n, "hit_rate_ci_low": lo, "hit_rate_ci_high": hi,
+            "generation_hit": _median_int(g_hit), "generation_1pct": _median_int(g_near),
+            "within_1pct_by_gen_11": float(np.mean((g_near >= 0) & (g_near <= 11))),
+            "hit_by_gen_27": float(np.mean((g_hit >= 0) & (g_hit <= 27))),
+            "ms_per_run": 1000 * float(np.mean(tab.numeric("time_s")[m])),
+        })
+    write_csv(os.path.join(folder, "paper_claims.csv"), out)
+    run0 = [i for i, r in enumerate(doc["columns"]["run"]) if r == 0][0]
+    c = doc["columns"]
+    lines = [f"# {study.name}: the paper's claims beside our measurements", "",
+             f"Reference configuration `{ref}`; first scene `{doc['scenario']}` "
+             f"(optimum {doc['optimum']:.4f} m).", "",
+             "| claim | paper (one run, MATLAB) | run 0 here | all runs here |", "|---|---|---|---|",
+             f"| optimum reached by generation | {PAPER_CLAIMS['generation_optimum']} | "
+             f"{c['generation_hit'][run0] if c['hit'][run0] else 'not reached'} | "
+             f"{out[0]['generation_hit']} among hits; {_pct(out[0]['hit_by_gen_27'])} of runs "
+             f"by generation 27 |",
+             f"| near-optimal (within 1%) by generation | {PAPER_CLAIMS['generation_near_optimal']}"
+             f" | {c['generation_1pct'][run0] if c['generation_1pct'][run0] >= 0 else 'never'} | "
+             f"{out[0]['generation_1pct']}; {_pct(out[0]['within_1pct_by_gen_11'])} of runs by "
+             f"generation 11 |",
+             f"| time per run | about {PAPER_CLAIMS['seconds_per_run']:g} s | - | "
+             f"{out[0]['ms_per_run']:.2f} ms (batched search, compile "
+             f"{doc['compile_s']:.1f} s once) |", "",
+             "Hit rate within the run's generations (95% Wilson interval):", ""]
+    lines += [f"- {r['group']} ({r['scenes']} scenes, {r['runs']} runs): {_pct(r['hit_rate'])} "
+              f"[{_pct(r['hit_rate_ci_low'])}, {_pct(r['hit_rate_ci_high'])}]" for r in out]
+    text = "\n".join(lines) + "\n"
+    _atomic_write(os.path.join(folder, "paper_claims.md"), lambda fh: fh.write(text))
+    return files + [os.path.join(folder, n) for n in ("paper_claims.csv", "paper_claims.md")]
+
+
+def penalty(study, tab: Table, docs, rows, folder: str) -> list[str]:
+    out = []
+    feasible = tab["feasible"].astype(bool)
+    colliding = tab["violations_full"].astype(int) > 0
+    for group in dict.fromkeys(tab["family"].tolist()):
+        for c in study.configs:
+            m = (tab["family"] == group) & (tab["config"] == c.label)
+            if not m.any():
+                continue
+            acc = int((m & feasible).sum())
+            bad = int((m & feasible & colliding).sum())
+            lo, hi = stats.wilson(bad, acc) if acc else (math.nan, math.nan)
+            out.append({"group": group, "config": c.label, "collision": c.settings.collision,
+                        "penalty_weight": c.settings.penalty_weight, "runs": int(m.sum()),
+                        "accepted": acc, "accepted_but_colliding": bad,
+                        "rate": bad / acc if acc else math.nan,
+                        "rate_ci_low": lo, "rate_ci_high": hi})
+    write_csv(os.path.join(folder, "penalty.csv"), out)
+    lines = ["# Best paths accepted by the run's collision test but colliding under the full "
+             "test", "", "| group | configuration | collision | penalty weight | runs | accepted |"
+             " colliding among accepted [95% Wilson] |", "|---|---|---|---|---|---|---|"]
+    lines += [f"| {r['group']} | {r['config']} | {r['collision']} | {r['penalty_weight']:g} | "
+              f"{r['runs']} | {r['accepted']} | {r['accepted_but_colliding']} "
+              f"({_pct(r['rate']) if r['accepted'] else '-'}"
+              + (f" [{_pct(r['rate_ci_low'])}, {_pct(r['rate_ci_high'])}]" if r["accepted"] else "")
+              + ") |" for r in out]
+    text = "\n".join(lines) + "\n"
+    _atomic_write(os.path.join(folder, "penalty.md"), lambda fh: fh.write(text))
+    return [os.path.join(folder, "penalty.csv"), os.path.join(folder, "penalty.md")]
+
+
+def scaling(study, tab: Table, docs, rows, folder: str) -> list[str]:
+    out = []
+    gap = tab.numeric("gap")
+    for c in study.configs:
+        for n in sorted(set(tab["obstacles"].tolist())):
+            m = (tab["config"] == c.label) & (tab["obstacles"] == n)
+            if not m.any():
+                continue
+            ds = [d for d in docs if d["config"] == c.label and d["obstacles"] == n]
+            k, runs = int(tab["hit"][m].astype(bool).sum()), int(m.sum())
+            lo, hi = stats.wilson(k, runs)
+            out.append({"config": c.label, "obstacles": n, "scenes": len(ds), "runs": runs,
+                        "hit_rate": k / runs, "hit_rate_ci_low": lo, "hit_rate_ci_high": hi,
+                        "gap_median": float(np.median(gap[m])),
+                        "feasible_rate": float(np.mean(np.isfinite(gap[m]))),
+                        "ga_ms_per_run": 1000 * float(np.mean(tab.numeric("time_s")[m])),
+                        "ga_evaluations_per_s": float(np.sum(tab.numeric("evaluations")[m])
+                                                      / np.sum(tab.numeric("time_s")[m])),
+                        "exact_ms_median": 1000 * float(np.median([d["exact_s"] for d in ds]))})
+    write_csv(os.path.join(folder, "scaling.csv"), out)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    for c in study.configs:
+        rs = [r for r in out if r["config"] == c.label]
+        n = [r["obstacles"] for r in rs]
+        rate = np.array([r["hit_rate"] for r in rs])
+        err = np.array([[r["hit_rate"] - r["hit_rate_ci_low"] for r in rs],
+                        [r["hit_rate_ci_high"] - r["hit_rate"] for r in rs]])
+        a1.errorbar(n, 100 * rate, yerr=100 * err, marker="o", capsize=3, label=c.label)
+        a2.plot(n, [r["ga_ms_per_run"] for r in rs], marker="o", label=f"GA run ({c.label})")
+    n = [r["obstacles"] for r in out if r["config"] == study.configs[0].label]
+    a2.plot(n, [r["exact_ms_median"] for r in out if r["config"] == study.configs[0].label],
+            marker="s", color="k", label="exact solver")
+    a1.set_ylabel("hit rate (%), 95% Wilson")
+    a2.set_ylabel("milliseconds (GA: share of a batched search)")
+    a2.set_yscale("log")
+    for ax in (a1, a2):
+        ax.set_xlabel("obstacles")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    files = [save(fig, os.path.join(folder, "figures", "scaling.png")),
+             os.path.join(folder, "scaling.csv")]
+    return files
+
+
+ANALYSES: dict[str, Any] = {"paper": paper, "penalty": penalty, "scaling": scaling}

@@ -1,0 +1,63 @@
+"""The ``hga-jax study`` subcommand (kept apart from the other commands)."""
+from __future__ import annotations
+
+import argparse
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("study", help="run or resume a study (grid of settings over scenes)")
+    p.add_argument("config", help="study TOML file (e.g. configs/studies/reproduce_paper.toml)")
+    _options(p)
+
+
+def _options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--quick", action="store_true", help="the study's small [quick] version")
+    p.add_argument("--out", help="output folder (default results/<study name>)")
+    p.add_argument("--scenes", type=int, help="only the first N scenes of each family "
+                   "(a part of the study; the full study reuses its cells)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs "
+                   "on disk")
+
+
+def run(args: argparse.Namespace) -> int:
+    from .run import run_study
+
+    if not args.no_cache:
+        from ..runner import enable_compilation_cache
+
+        enable_compilation_cache()
+    if args.scenes is not None and args.scenes < 1:
+        from ..errors import ConfigError
+
+        raise ConfigError(f"command line: --scenes: must be >= 1, got {args.scenes}")
+    outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,
+                        progress=False if args.quiet else None)
+    print(f"study {outcome.study.name}: {len(outcome.docs)} cells "
+          f"({outcome.cells_run} run now, {outcome.cells_reused} already done), "
+          f"{outcome.table.rows} runs; results in {outcome.folder}")
+    md = f"{outcome.folder}/summary.md"
+    print(open(md).read() if outcome.docs else "")
+    return 0
+
+
+def script(path: str, argv=None, doc: str = "") -> int:
+    """``main`` of a study script ``experiments/<name>.py`` (its ``__file__`` is
+    ``path``): the study file ``configs/studies/<name>.toml`` with the options of
+    ``hga-jax study``; errors end like ``hga-jax`` (one line, exit 2)."""
+    import os
+    import sys
+
+    from ..errors import ConfigError
+
+    name = os.path.splitext(os.path.basename(path))[0]
+    p = argparse.ArgumentParser(prog=f"{name}.py", description=doc.strip().splitlines()[0])
+    _options(p)
+    args = p.parse_args(argv)
+    root = os.path.dirname(os.path.dirname(os.path.abspath(path)))
+    args.config = os.path.join(root, "configs", "studies", name + ".toml")
+    try:
+        return run(args)
+    except ConfigError as e:
+        print(f"{p.prog}: error: {e}", file=sys.stderr)
+        return 2

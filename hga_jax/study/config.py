@@ -1,0 +1,238 @@
+"""Study configuration files (TOML): scenes, a grid of GA settings, seeds, budget.
+
+A study file holds (paths are relative to the file)::
+
+    name = "operator_study"       # outputs under results/<name>/
+    seed = 0                      # run k of every cell is run k of this seed
+    runs = 1000                   # runs per cell (one configuration on one scene)
+    scenarios = ["../scenarios/robocup_paper.toml"]   # optional scene files
+    plugins = ["my_operators.py"] # optional: Python files imported first
+    analyses = ["paper"]          # optional extra reports: paper, penalty, scaling
+    [ga]                          # settings shared by every configuration
+    [[families]]                  # optional generated scenes (see scenes.py)
+    name = "clutter"; kind = "clutter"; obstacles = [5, 9, 15]; scenes = 10; seed = 1
+    [[configs]]                   # each table is a grid: the product of its lists
+    perm_crossover = ["cx", "pmx", "ox1"]
+    [quick]                       # --quick: runs, scenes, obstacles, ga, configs, scenarios
+
+Configurations are labelled by the keys their table varies (``perm_crossover=pmx``)
+or by the table's ``label`` when it names one point; the first is the reference
+that the statistical tests compare every other configuration with. Every problem
+raises :class:`~hga_jax.errors.ConfigError` naming the file and key.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import itertools
+import os
+import tomllib
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+from ..errors import ConfigError
+from ..settings import GASettings
+
+TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses", "ga",
+       "families", "configs", "quick"}
+FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density"}
+QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
+KINDS = ("clutter", "obstructed")
+ANALYSES = ("paper", "penalty", "scaling")
+
+
+@dataclass(frozen=True)
+class Family:
+    """Generated scenes: ``scenes`` per obstacle count, from ``seed``."""
+
+    name: str
+    kind: str
+    obstacles: tuple[int, ...]
+    scenes: int
+    seed: int
+    density: float | None = None  # obstacles per m^2 (field grows with n); None: RoboCup field
+
+
+@dataclass(frozen=True)
+class Config:
+    label: str
+    settings: GASettings
+
+
+@dataclass
+class Study:
+    name: str
+    source: str
+    seed: int
+    runs: int
+    scenarios: list[str]
+    families: list[Family]
+    configs: list[Config]
+    plugins: list[str] = field(default_factory=list)
+    analyses: list[str] = field(default_factory=list)
+    description: str = ""
+    quick: bool = False
+
+
+def _err(source: str, key: str, problem: str) -> ConfigError:
+    return ConfigError(" ".join(f"{source}: {key}: {problem}".splitlines()))
+
+
+def _keys(table: Any, allowed: set[str], source: str, where: str) -> Mapping[str, Any]:
+    if not isinstance(table, Mapping):
+        raise _err(source, where or "file", f"must be a table, got {table!r}")
+    for k in table:
+        if k not in allowed:
+            raise _err(source, f"{where}.{k}" if where else k,
+                       f"unknown key (known: {', '.join(sorted(allowed))})")
+    return table
+
+
+def _int(v: Any, source: str, key: str, low: int, high: int = 2**31) -> int:
+    if isinstance(v, bool) or not isinstance(v, int) or not low <= v < high:
+        raise _err(source, key, f"must be an integer in {low}..{high - 1}, got {v!r}")
+    return v
+
+
+def _strings(v: Any, source: str, key: str) -> list[str]:
+    if not isinstance(v, list) or not all(isinstance(s, str) and s for s in v):
+        raise _err(source, key, f"must be a list of non-empty strings, got {v!r}")
+    return v
+
+
+def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
+    where = f"families[{i}]"
+    t = _keys(t, FAMILY, source, where)
+    for k in ("name", "kind", "obstacles"):
+        if k not in t:
+            raise _err(source, f"{where}.{k}", "missing key")
+    if not (isinstance(t["name"], str) and t["name"].isidentifier()):
+        raise _err(source, f"{where}.name", f"must be an identifier, got {t['name']!r}")
+    if t["kind"] not in KINDS:
+        raise _err(source, f"{where}.kind", f"must be one of {', '.join(KINDS)}, got {t['kind']!r}")
+    obs = quick.get("obstacles", t["obstacles"])
+    key = "quick.obstacles" if "obstacles" in quick else f"{where}.obstacles"
+    if not isinstance(obs, list) or not obs:
+        raise _err(source, key, f"must be a non-empty list of integers, got {obs!r}")
+    obs = tuple(_int(n, source, key, 1 if t["kind"] == "clutter" else 3, 1001) for n in obs)
+    scenes = _int(quick.get("scenes", t.get("scenes", 1)), source, f"{where}.scenes", 1, 10_001)
+    density = t.get("density")
+    if density is not None and (isinstance(density, bool) or not isinstance(density, (int, float))
+                                or not 0 < density < 20):
+        raise _err(source, f"{where}.density", f"must be a number in (0, 20) obstacles per "
+                   f"square metre, got {density!r}")
+    return Family(t["name"], t["kind"], obs, scenes,
+                  _int(t.get("seed", 0), source, f"{where}.seed", 0, 2**32),
+                  None if density is None else float(density))
+
+
+def _grid(t: Any, i: int, source: str, base: GASettings, key: str) -> list[Config]:
+    where = f"{key}[{i}]"
+    t = dict(_keys(t, {f.name for f in dataclasses.fields(GASettings)} | {"label"},
+                   source, where))
+    label = t.pop("label", None)
+    if label is not None and not (isinstance(label, str) and label.strip()):
+        raise _err(source, f"{where}.label", f"must be a non-empty string, got {label!r}")
+    names = list(t)
+    values = [v if isinstance(v, list) else [v] for v in t.values()]
+    for k, v in zip(names, values):
+        if not v:
+            raise _err(source, f"{where}.{k}", "must not be an empty list")
+    points = list(itertools.product(*values))
+    if label is not None and len(points) > 1:
+        raise _err(source, f"{where}.label", f"names one configuration, but the table has "
+                   f"{len(points)}")
+    out = []
+    for point in points:
+        s = GASettings.from_mapping(dict(zip(names, point)), source, prefix=where, base=base)
+        varied = [f"{k}={v}" for k, v, vs in zip(names, point, values)
+                  if len(vs) > 1 or len(points) == 1]
+        out.append(Config(label or ", ".join(varied) or "base", s))
+    return out
+
+
+def load_plugins(paths: list[str], source: str) -> None:
+    """Import each Python file once (it may register operators, see ``perm_ops``)."""
+    import importlib.util
+    import sys
+
+    for i, path in enumerate(paths):
+        name = "hga_jax_plugin_" + hashlib.sha1(path.encode()).hexdigest()[:12]
+        if name in sys.modules:
+            continue
+        try:
+            spec = importlib.util.spec_from_file_location(name, path)
+            if spec is None or spec.loader is None:
+                raise ImportError("not a Python file")
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[name] = module
+            spec.loader.exec_module(module)
+        except Exception as e:  # the user's code: report it on one line
+            sys.modules.pop(name, None)
+            raise _err(source, f"plugins[{i}]", f"cannot import {path}: "
+                       f"{type(e).__name__}: {e}") from None
+
+
+def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Study:
+    """Read and check a study file (see the module doc); ``quick`` applies ``[quick]``;
+    ``scenes`` keeps at most that many scenes per family and obstacle count (the first
+    ones: a part of the full study, whose finished cells the full study reuses)."""
+    source = str(path)
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except OSError as e:
+        raise _err(source, "file", f"cannot read: {e.strerror or e}") from None
+    except tomllib.TOMLDecodeError as e:
+        raise _err(source, "toml", f"syntax error: {e}") from None
+    data = _keys(data, TOP, source, "")
+    for k in ("name", "runs"):
+        if k not in data:
+            raise _err(source, k, "missing key")
+    name = data["name"]
+    if not (isinstance(name, str) and name.replace("-", "_").isidentifier()):
+        raise _err(source, "name", f"must be a name of letters, digits, _ and -, got {name!r}")
+    q = _keys(data.get("quick", {}), QUICK, source, "quick") if quick else {}
+    runs = _int(q.get("runs", data["runs"]), source, "quick.runs" if "runs" in q else "runs",
+                1, 1_000_001)
+    seed = _int(data.get("seed", 0), source, "seed", 0, 2**32)
+    here = os.path.dirname(os.path.abspath(source))
+    skey = "quick.scenarios" if "scenarios" in q else "scenarios"
+    scen = [os.path.normpath(os.path.join(here, p))
+            for p in _strings(q.get("scenarios", data.get("scenarios", [])), source, skey)]
+    plugins = [os.path.normpath(os.path.join(here, p))
+               for p in _strings(data.get("plugins", []), source, "plugins")]
+    analyses = _strings(data.get("analyses", []), source, "analyses")
+    for a in analyses:
+        if a not in ANALYSES:
+            raise _err(source, "analyses", f"must name some of {', '.join(ANALYSES)}, got {a!r}")
+    fams = data.get("families", [])
+    if not isinstance(fams, list):
+        raise _err(source, "families", f"must be an array of tables, got {fams!r}")
+    families = [_family(t, i, source, q) for i, t in enumerate(fams)]
+    if scenes is not None:
+        families = [dataclasses.replace(f, scenes=min(f.scenes, scenes)) for f in families]
+    if len({f.name for f in families}) < len(families):
+        raise _err(source, "families", "two families share a name")
+    if not scen and not families:
+        raise _err(source, "scenarios", "a study needs scenarios or families")
+    load_plugins(plugins, source)
+    ga = _keys(data.get("ga", {}), {f.name for f in dataclasses.fields(GASettings)}, source, "ga")
+    base = GASettings.from_mapping(ga, source)
+    if "ga" in q:
+        base = GASettings.from_mapping(_keys(q["ga"], set(ga) | {
+            f.name for f in dataclasses.fields(GASettings)}, source, "quick.ga"),
+            source, prefix="quick.ga", base=base)
+    key = "quick.configs" if "configs" in q else "configs"
+    tables = q.get("configs", data.get("configs", [{}]))
+    if not isinstance(tables, list) or not tables:
+        raise _err(source, key, f"must be a non-empty array of tables, got {tables!r}")
+    configs: list[Config] = []
+    for i, t in enumerate(tables):
+        for c in _grid(t, i, source, base, key):
+            if all(c.settings != o.settings for o in configs):
+                if any(c.label == o.label for o in configs):
+                    raise _err(source, f"{key}[{i}]", f"two configurations named {c.label!r}")
+                configs.append(c)
+    return Study(name, source, seed, runs, scen, families, configs, plugins, analyses,
+                 str(data.get("description", "")), quick)

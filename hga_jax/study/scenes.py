@@ -1,0 +1,173 @@
+"""Seeded families of RoboCup-like scenes, each saved as a scenario TOML file.
+
+Robots as on the bundled RoboCup scene: radius 0.09 m, minimum turning radius
+0.15 m, so every obstacle is a model circle of radius 0.18 m; no two obstacle
+centres closer than 0.30 m; the field (2.8 m x 2.3 m, or larger at a given
+density) is kept. The start pose is near the left edge, the goal pose near the
+right edge, headings within 60 degrees of +x.
+
+- ``clutter``: obstacles uniform over the field.
+- ``obstructed``: about half of the obstacles scattered along the straight line
+  from start to goal, the rest uniform; a scene is kept only when that straight
+  line and all four direct Dubins paths (no obstacle touched) collide and the
+  exact optimum wraps at least three obstacles.
+
+Every kept scene has a feasible optimum that a chromosome expresses (touching
+each obstacle at most once), so a GA run can hit it. Scene ``i`` with ``n``
+obstacles of a family with seed ``s`` depends on ``(s, n, i)`` alone.
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import scenario_from_dict
+from ..exact import solve
+from ..path import decode64
+from ..results import _atomic_write
+from ..scenario import Scenario
+from .config import Family
+
+ROBOT_RADIUS, TURN_RADIUS, MODEL_RADIUS = 0.09, 0.15, 0.18
+FIELD_W, FIELD_H = 2.8, 2.3
+SPACING = 0.30  # minimum distance between obstacle centres (m)
+MAX_TRIES = 5000
+
+
+@dataclass
+class Scene:
+    name: str
+    family: str  # family name, or "files" for a scene file of the study
+    path: str  # its TOML file
+    scenario: Scenario
+    text: str  # the file's content (part of a cell's identity)
+
+
+def field_size(n: int, density: float | None) -> tuple[float, float]:
+    """The RoboCup field, or a field of its shape holding ``n / density`` square metres."""
+    if density is None:
+        return FIELD_W, FIELD_H
+    area = max(n / density, FIELD_W * FIELD_H)
+    w = math.sqrt(area * FIELD_W / FIELD_H)
+    return w, area / w
+
+
+def _poses(rng: np.random.Generator, w: float, h: float) -> tuple[list[float], list[float]]:
+    start = [rng.uniform(0.25, 0.5), rng.uniform(0.35, h - 0.35), rng.uniform(-60, 60)]
+    goal = [rng.uniform(w - 0.5, w - 0.25), rng.uniform(0.35, h - 0.35), rng.uniform(-60, 60)]
+    return start, goal
+
+
+def _place(rng, n: int, w: float, h: float, start, goal, obstructed: bool) -> np.ndarray:
+    """``n`` centres at least SPACING apart, clear of the start and goal points."""
+    keep = np.array([start[:2], goal[:2]])
+    out: list[np.ndarray] = []
+    near_line = n // 2 if obstructed else 0
+    tries = 0
+    while len(out) < n:
+        tries += 1
+        if tries > 200 * n:
+            raise RuntimeError("field too crowded")
+        if len(out) < near_line:
+            t = rng.uniform(0.15, 0.85)
+            d = keep[1] - keep[0]
+            normal = np.array([-d[1], d[0]]) / np.hypot(*d)
+            c = keep[0] + t * d + rng.normal(0.0, 0.2) * normal
+        else:
+            c = np.array([rng.uniform(0.2, w - 0.2), rng.uniform(0.2, h - 0.2)])
+        if not (0.2 <= c[0] <= w - 0.2 and 0.2 <= c[1] <= h - 0.2):
+            continue
+        if np.min(np.hypot(*(keep - c).T)) < MODEL_RADIUS + 0.1:
+            continue
+        if out and np.min(np.hypot(*(np.array(out) - c).T)) < SPACING:
+            continue
+        out.append(c)
+    return np.array(out).reshape(n, 2)
+
+
+def scene_dict(name: str, w: float, h: float, start, goal, centres) -> dict:
+    """A scenario mapping (metres, degrees) rounded to 0.1 mm and 0.01 degree."""
+    r4 = lambda v: round(float(v), 4)  # noqa: E731
+    return {
+        "name": name,
+        "robot": {"radius": ROBOT_RADIUS, "min_turn_radius": TURN_RADIUS},
+        "field": {"xmin": 0.0, "xmax": r4(w), "ymin": 0.0, "ymax": r4(h), "keep_inside": True},
+        "start": {"x": r4(start[0]), "y": r4(start[1]), "heading_deg": round(start[2], 2)},
+        "goal": {"x": r4(goal[0]), "y": r4(goal[1]), "heading_deg": round(goal[2], 2)},
+        "obstacles": [{"x": r4(x), "y": r4(y)} for x, y in centres],
+    }
+
+
+def to_toml(d: dict, comment: str = "") -> str:
+    """TOML text of a scenario mapping (the layout of ``configs/scenarios``)."""
+    lines = [f"# {line}" for line in comment.splitlines()]
+    lines.append(f'name = "{d["name"]}"')
+    for table in ("robot", "field", "start", "goal"):
+        lines.append(f"\n[{table}]")
+        for k, v in d[table].items():
+            lines.append(f"{k} = {str(v).lower() if isinstance(v, bool) else repr(v)}")
+    for o in d["obstacles"]:
+        lines.append(f"\n[[obstacles]]\nx = {o['x']!r}\ny = {o['y']!r}")
+    return "\n".join(lines) + "\n"
+
+
+def _blocked(sc: Scenario) -> bool:
+    """True when the straight start-goal line and all four direct Dubins paths collide."""
+    a, b = np.array(sc.start[:2]), np.array(sc.goal[:2])
+    d = b - a
+    t = np.clip((sc.centres - a) @ d / (d @ d), 0.0, 1.0)
+    line_hits = np.hypot(*(a + t[:, None] * d - sc.centres).T) < sc.model_radii
+    if not line_hits.any():
+        return False
+    ends = np.array([[s, g] for s in (-1, 1) for g in (-1, 1)])
+    labels = np.zeros((4, sc.n + 2), np.int32)
+    labels[:, 0], labels[:, -1] = ends[:, 0], ends[:, 1]
+    perm = np.tile(np.arange(sc.n, dtype=np.int32), (4, 1))
+    return bool(np.all(decode64(sc, perm, labels).violations > 0))
+
+
+def generate(kind: str, n: int, seed: int, index: int, name: str,
+             density: float | None = None) -> dict:
+    """Scene ``index`` with ``n`` obstacles of a ``kind`` family with ``seed``: a mapping."""
+    rng = np.random.default_rng([seed, n, index])
+    w, h = field_size(n, density)
+    for _ in range(MAX_TRIES):
+        start, goal = _poses(rng, w, h)
+        try:
+            centres = _place(rng, n, w, h, start, goal, kind == "obstructed")
+        except RuntimeError:
+            continue
+        d = scene_dict(name, w, h, start, goal, centres)
+        try:
+            sc = scenario_from_dict(d, name)
+        except ValueError:
+            continue
+        if kind == "obstructed" and not _blocked(sc):
+            continue
+        opt = solve(sc)
+        if not (opt.feasible and opt.expressible):
+            continue
+        if kind == "obstructed" and len(opt.touched) < 3:
+            continue
+        return d
+    raise RuntimeError(f"no {kind} scene with {n} obstacles found in {MAX_TRIES} tries")
+
+
+def family_scenes(fam: Family, folder: str) -> list[Scene]:
+    """The family's scenes, written to ``folder`` (atomically, only when changed)."""
+    out = []
+    for n in fam.obstacles:
+        for i in range(fam.scenes):
+            name = f"{fam.name}_n{n:03d}_{i:03d}"
+            d = generate(fam.kind, n, fam.seed, i, name, fam.density)
+            text = to_toml(d, f"{fam.kind} scene {i} with {n} obstacles of family {fam.name!r} "
+                              f"(seed {fam.seed}), generated by hga-jax study.\n"
+                              f"Rerun it alone: hga-jax run <this file> --runs 1000")
+            path = os.path.join(folder, name + ".toml")
+            if not (os.path.exists(path) and open(path).read() == text):
+                _atomic_write(path, lambda fh: fh.write(text))
+            out.append(Scene(name, fam.name, path, scenario_from_dict(d, path), text))
+    return out

@@ -1,0 +1,110 @@
+"""The resumable store of a study: one JSON file per finished cell.
+
+A *cell* is one configuration run ``runs`` times on one scene. Its identity is a
+hash of everything that determines its result (the settings, the scene file's
+text, the seed, the run count and the package version), so a finished cell is
+never run again, and a changed study never reuses a stale cell. A cell file is
+written once, atomically (temporary file, then rename): after a crash a cell is
+either complete or absent, and the tables, always rebuilt from the cell files,
+hold every finished run exactly once.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import os
+from typing import Any
+
+import numpy as np
+
+from .. import __version__
+from ..fitness import length_of_fitness
+from ..results import NEAR_GAP, RunsResult, json_safe, write_json
+from .config import Config
+from .scenes import Scene
+
+TARGETS = (0.0, 0.01, 0.05)  # gaps for "evaluations to target" (0: the hit, gap < 1e-6)
+QUANTILES = (25, 50, 75)
+
+
+def cell_id(config: Config, scene: Scene, seed: int, runs: int) -> str:
+    key = json.dumps({"settings": dataclasses.asdict(config.settings), "scene": scene.text,
+                      "seed": seed, "runs": runs, "version": __version__}, sort_keys=True)
+    return hashlib.sha256(key.encode()).hexdigest()[:20]
+
+
+class Store:
+    """Cell files ``<folder>/cells/<id>.json``."""
+
+    def __init__(self, folder: str):
+        self.folder = os.path.join(folder, "cells")
+        os.makedirs(self.folder, exist_ok=True)
+        for name in os.listdir(self.folder):  # left by a study killed while writing
+            if name.startswith(".tmp-"):
+                os.unlink(os.path.join(self.folder, name))
+
+    def path(self, cid: str) -> str:
+        return os.path.join(self.folder, cid + ".json")
+
+    def done(self, cid: str) -> bool:
+        return os.path.exists(self.path(cid))
+
+    def load(self, cid: str) -> dict[str, Any]:
+        with open(self.path(cid)) as fh:
+            return json.load(fh)
+
+    def save(self, cid: str, doc: dict[str, Any]) -> None:
+        write_json(self.path(cid), json_safe(doc))
+
+
+def _evals(gen: np.ndarray, population: int) -> list[int | None]:
+    """Evaluations spent up to and including generation ``gen`` (None: never)."""
+    return [population * (int(g) + 1) if g >= 0 else None for g in gen]
+
+
+def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full) -> dict:
+    """Everything the tables and figures need from one cell, JSON-ready and columnar."""
+    s = res.settings
+    opt = res.optimum_length
+    gen_hit = res.generation_hit
+    columns: dict[str, list] = {
+        "run": res.run_ids.tolist(), "length": res.length.tolist(),
+        "feasible": res.feasible.tolist(), "violations": res.violations.tolist(),
+        "violations_full": np.asarray(violations_full).tolist(),
+        "gap": [None if not np.isfinite(g) else float(g) for g in res.gap],
+        "hit": res.hit.tolist(), "generation_best": res.generation.tolist(),
+    }
+    for t in TARGETS[1:]:
+        gen = res.first_generation_within(t)
+        tag = f"{round(100 * t)}pct"
+        columns[f"generation_{tag}"] = gen.tolist()
+        columns[f"evaluations_{tag}"] = _evals(gen, s.population)
+    columns["generation_hit"] = gen_hit.tolist()
+    columns["evaluations_hit"] = _evals(gen_hit, s.population)
+    h = res.history
+    dist_m = length_of_fitness(h["best_so_far_fitness"].astype(np.float64))
+    curves = {name: np.percentile(h[name].astype(np.float64), QUANTILES, axis=1).tolist()
+              for name in ("best_fitness", "mean_fitness", "best_so_far_fitness")}
+    if opt is not None:
+        # Best-so-far Dist_m (length plus penalty) relative to the optimum: finite always.
+        curves["best_so_far_gap_m"] = np.percentile(dist_m / opt - 1.0, QUANTILES, axis=1).tolist()
+        near = res.first_generation_within(NEAR_GAP)
+        gens = np.arange(h["best_fitness"].shape[0])[:, None]
+        curves["within_1pct_fraction"] = np.mean((near >= 0) & (near <= gens), axis=1).tolist()
+    curves["run0_best_fitness"] = h["best_fitness"][:, 0].astype(float).tolist()
+    curves["run0_best_so_far_fitness"] = h["best_so_far_fitness"][:, 0].astype(float).tolist()
+    o = res.optimum
+    return {
+        "config": config.label, "settings": dataclasses.asdict(s), "scenario": scene.name,
+        "family": scene.family, "scenario_file": scene.path, "obstacles": scene.scenario.n,
+        "seed": res.seed, "runs": len(res.length), "optimum": opt,
+        "optimum_touched": len(o.touched) if o is not None else None,
+        "exact_s": o.seconds if o is not None else None,
+        "compile_s": res.compile_s, "search_s": res.search_s, "finish_s": res.finish_s,
+        "evaluations_per_run": s.population * (s.generations + 1),
+        "best": {"run": res.best_run, **{k: v for k, v in res.best.to_dict().items()
+                                         if k in ("length", "feasible", "violations", "upper",
+                                                  "lower")}},
+        "columns": columns, "curves": curves,
+    }
