@@ -109,6 +109,22 @@ def atomic_write(path: str, write: Writer, binary: bool = False) -> None:
         raise
 
 
+def write_file(path: str, write: Writer, binary: bool = False) -> None:
+    """:func:`atomic_write` after creating the file's parent folders."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    atomic_write(path, write, binary)
+
+
+def write_json(path: str, data: Any) -> None:
+    """Write ``data`` as strict JSON, atomically."""
+    write_file(path, json_writer(data))
+
+
+def write_csv(path: str, rows: list[dict[str, Any]]) -> None:
+    """Write ``rows`` (dicts with the same keys) as CSV with a header, atomically."""
+    write_file(path, csv_writer(rows))
+
+
 def json_writer(data: Any) -> Writer:
     """A writer of ``data`` as JSON (strict: no NaN or infinity)."""
     return lambda fh: json.dump(data, fh, indent=1, allow_nan=False)

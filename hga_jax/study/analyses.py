@@ -22,7 +22,7 @@ from ..config import load_scenario
 from ..fitness import fitness_of
 from ..path import evaluate_path, from_chromosome
 from ..plots import plot_path
-from ..results import _atomic_write, write_csv
+from ..output import write_csv, write_file
 from . import stats
 from .figures import plt, save
 from .table import Table
@@ -114,7 +114,7 @@ def paper(study, tab: Table, docs, rows, folder: str) -> list[str]:
     lines += [f"- {r['group']} ({r['scenes']} scenes, {r['runs']} runs): {_pct(r['hit_rate'])} "
               f"[{_pct(r['hit_rate_ci_low'])}, {_pct(r['hit_rate_ci_high'])}]" for r in out]
     text = "\n".join(lines) + "\n"
-    _atomic_write(os.path.join(folder, "paper_claims.md"), lambda fh: fh.write(text))
+    write_file(os.path.join(folder, "paper_claims.md"), lambda fh: fh.write(text))
     return files + [os.path.join(folder, n) for n in ("paper_claims.csv", "paper_claims.md")]
 
 
@@ -145,7 +145,7 @@ def penalty(study, tab: Table, docs, rows, folder: str) -> list[str]:
               + (f" [{_pct(r['rate_ci_low'])}, {_pct(r['rate_ci_high'])}]" if r["accepted"] else "")
               + ") |" for r in out]
     text = "\n".join(lines) + "\n"
-    _atomic_write(os.path.join(folder, "penalty.md"), lambda fh: fh.write(text))
+    write_file(os.path.join(folder, "penalty.md"), lambda fh: fh.write(text))
     return [os.path.join(folder, "penalty.csv"), os.path.join(folder, "penalty.md")]
 
 

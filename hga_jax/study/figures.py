@@ -21,12 +21,9 @@ GAP_FLOOR = 1e-6  # gaps are drawn on a log axis; a hit sits at this floor
 
 
 def save(fig, path: str) -> str:
-    """Write a PNG atomically (temporary file, then rename) and close the figure."""
-    folder, name = os.path.split(os.path.abspath(path))
-    tmp = os.path.join(folder, f".tmp-{os.getpid()}-{name}")
-    save_figure(fig, tmp)
+    """Write a PNG atomically (:func:`~hga_jax.plots.save_figure`) and close the figure."""
+    save_figure(fig, path)
     plt.close(fig)
-    os.replace(tmp, path)
     return path
 
 

@@ -17,7 +17,8 @@ from typing import Any
 
 from ..config import load_scenario
 from ..path import decode64
-from ..results import json_safe, write_csv, write_json
+from ..output import write_csv, write_file, write_json
+from ..results import json_safe
 from ..runner import run_many
 from . import figures, summary, table
 from .config import Config, Study, load_study
@@ -125,10 +126,9 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
         table.write_jsonl(j("runs.jsonl"), tab)
         rows = summary.summarize(tab, labels)
         write_csv(j("summary.csv"), rows)
-        from ..results import _atomic_write
 
         md = summary.markdown(rows, f"Study {study.name}: {tab.rows} runs")
-        _atomic_write(j("summary.md"), lambda fh: fh.write(md))
+        write_file(j("summary.md"), lambda fh: fh.write(md))
         write_csv(j("by_scene.csv"), summary.by_scene(tab, labels))
         files += [j(n) for n in ("runs.csv", "runs.jsonl", "summary.csv", "summary.md",
                                  "by_scene.csv")]

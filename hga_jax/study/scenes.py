@@ -27,7 +27,7 @@ import numpy as np
 from ..config import scenario_from_dict
 from ..exact import solve
 from ..path import decode64
-from ..results import _atomic_write
+from ..output import write_file
 from ..scenario import Scenario
 from .config import Family
 
@@ -168,6 +168,6 @@ def family_scenes(fam: Family, folder: str) -> list[Scene]:
                               f"Rerun it alone: hga-jax run <this file> --runs 1000")
             path = os.path.join(folder, name + ".toml")
             if not (os.path.exists(path) and open(path).read() == text):
-                _atomic_write(path, lambda fh: fh.write(text))
+                write_file(path, lambda fh: fh.write(text))
             out.append(Scene(name, fam.name, path, scenario_from_dict(d, path), text))
     return out

@@ -20,7 +20,8 @@ import numpy as np
 
 from .. import __version__
 from ..fitness import length_of_fitness
-from ..results import NEAR_GAP, RunsResult, json_safe, write_json
+from ..output import write_json
+from ..results import NEAR_GAP, RunsResult, json_safe
 from .config import Config
 from .scenes import Scene
 

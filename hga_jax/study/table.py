@@ -17,7 +17,8 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from ..results import _atomic_write, json_safe
+from ..output import write_file
+from ..results import json_safe
 
 ID_COLUMNS = ("study", "config", "family", "scenario", "obstacles", "seed")
 
@@ -88,7 +89,7 @@ def write_csv(path: str, table: Table) -> None:
         for row in zip(*cols):
             w.writerow(["" if v is None else v for v in row])
 
-    _atomic_write(path, write)
+    write_file(path, write)
 
 
 def write_jsonl(path: str, table: Table) -> None:
@@ -100,7 +101,7 @@ def write_jsonl(path: str, table: Table) -> None:
             fh.write(json.dumps(json_safe(dict(zip(names, map(_py, row)))),
                                 allow_nan=False) + "\n")
 
-    _atomic_write(path, write)
+    write_file(path, write)
 
 
 def read_csv(path: str) -> list[dict[str, str]]:
