@@ -43,7 +43,7 @@ def test_synopsis_names_every_option():
         assert written == options - {"--help"}, name
 
 
-def test_python_snippets_run_as_written(tmp_path, monkeypatch):
+def test_python_snippets_run_as_written(tmp_path, monkeypatch, registries):
     (tmp_path / "configs").symlink_to(ROOT / "configs")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
@@ -60,7 +60,7 @@ def test_python_snippets_run_as_written(tmp_path, monkeypatch):
 def test_scenario_snippet_loads():
     from hga_jax.config import scenario_from_dict
 
-    (text,) = _blocks("toml")
+    (text,) = [b for b in _blocks("toml") if "[robot]" in b]
     sc = scenario_from_dict(tomllib.loads(text), "README.md")
     assert sc.name == "example" and sc.n == 1 and sc.ga == {"population": 50}
 

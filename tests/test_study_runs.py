@@ -13,7 +13,7 @@ import time
 import numpy as np
 import pytest
 
-from hga_jax import label_ops, perm_ops
+from hga_jax import perm_ops
 from hga_jax.config import load_scenario
 from hga_jax.exact import solve
 from hga_jax.path import decode64
@@ -252,15 +252,6 @@ label = "keep_parents always"
 perm_crossover = "keep_parents"
 pc_upper = 1.0
 """
-
-
-@pytest.fixture
-def registries():
-    saved = [(d, dict(d)) for d in (perm_ops.CROSSOVERS, perm_ops.MUTATIONS, label_ops.CROSSOVERS)]
-    yield
-    for d, copy in saved:
-        d.clear()
-        d.update(copy)
 
 
 def test_an_operator_registered_outside_the_package_takes_part(tmp_path, registries):
