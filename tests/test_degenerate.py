@@ -221,7 +221,7 @@ def test_touching_circles_touch_at_the_contact_point(dtype):
                   f(1), f(0), tol.eps)
     assert bool(t.exists) and float(t.length) == 0.0
     for x, y in ((t.p1x, t.p1y), (t.p2x, t.p2y)):
-        assert (float(x), float(y)) == pytest.approx((0.9, 0.18), abs=4 * np.finfo(dtype).eps)
+        assert (float(x), float(y)) == pytest.approx((0.9, 0.18), abs=4 * float(np.finfo(dtype).eps))
 
 
 def test_paper_criterion_counts_an_end_on_the_circle_as_outside():
