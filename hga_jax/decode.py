@@ -56,6 +56,21 @@ class Decoded(NamedTuple):
     lines: Any
 
 
+def position_circles(perm, labels):
+    """The oriented circle (id of :mod:`hga_jax.tangents`) of every position.
+
+    Returns ``ids`` and ``touched``, both (S, B) (S = n + 2, batch innermost):
+    position 0 is the start circle, 1..n the obstacles in permutation order (the
+    circle of their label, any circle where the label is 0), S-1 the goal circle;
+    ``touched`` is False where the label is 0.
+    """
+    n = perm.shape[1]
+    lab = labels.T.astype(jnp.int32)  # (S, B)
+    side = (1 + lab) // 2  # 0 for CCW (-1), 1 for CW (+1)
+    obstacle_ids = 4 + 2 * perm.T.astype(jnp.int32) + (1 - side[1:n + 1])
+    return jnp.concatenate([side[:1], obstacle_ids, 2 + side[n + 1:]]), lab != 0
+
+
 def _path_circles(perm, labels):
     """The oriented circles of the path (ids of :mod:`hga_jax.tangents`), compacted.
 
@@ -63,12 +78,8 @@ def _path_circles(perm, labels):
     circle, slots 1..count-2 the touched obstacles in order, slot count-1 the goal
     circle. Only the circle ids are compacted; the circles are looked up after.
     """
-    n = perm.shape[1]
-    lab = labels.T.astype(jnp.int32)  # (S, B)
-    side = (1 + lab) // 2  # 0 for CCW (-1), 1 for CW (+1)
-    obstacle_ids = 4 + 2 * perm.T.astype(jnp.int32) + (1 - side[1:n + 1])
-    ids = jnp.concatenate([side[:1], obstacle_ids, 2 + side[n + 1:]])
-    count, (ids,) = _compact(lab != 0, ids)
+    ids, touched = position_circles(perm, labels)
+    count, (ids,) = _compact(touched, ids)
     return count, ids
 
 

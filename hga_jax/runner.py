@@ -132,7 +132,7 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
                         f"generations of {count(runs, 'run')}" if cut.batches == 1 else
                         f"generations of {cut.batches} batches of {count(size, 'run')}")
         with jax.enable_x64(dtype == np.float64):
-            sa = scenario.arrays(dtype)
+            sa = scenario.search_arrays(dtype, settings.collision)
             t0 = time.perf_counter()
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))

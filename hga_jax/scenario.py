@@ -6,7 +6,9 @@ radius ``R_i = max(rho, r_i + r)`` (docs/model.md).
 
 ``Scenario`` is host-side (plain floats and numpy arrays, validated by the
 loader in :mod:`hga_jax.config`). ``Scenario.arrays(dtype)`` gives the
-:class:`ScenarioArrays` pytree that device code takes.
+:class:`ScenarioArrays` pytree that device code takes; ``Scenario.search_arrays(dtype,
+collision)`` adds the scenario's turn table for that collision mode
+(:mod:`hga_jax.turns`), which the GA's fitness looks paths up in.
 """
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import tangents
+from . import tangents, turns
 
 
 @dataclass(frozen=True)
@@ -47,6 +49,8 @@ class Scenario:
     source: str = "<scenario>"  # file it came from, for messages
     _arrays: dict[Any, "ScenarioArrays"] = dataclasses.field(
         default_factory=dict, init=False, repr=False, compare=False)  # per dtype, built once
+    _turns: dict[Any, Any] = dataclasses.field(
+        default_factory=dict, init=False, repr=False, compare=False)  # per mode, built once
 
     @property
     def n(self) -> int:
@@ -71,6 +75,26 @@ class Scenario:
         if key not in self._arrays:
             self._arrays[key] = self._build_arrays(key)
         return self._arrays[key]
+
+    def search_arrays(self, dtype: Any = np.float32, collision: str = "full") -> "ScenarioArrays":
+        """:meth:`arrays` with the turn table of ``collision`` (``"full"`` or ``"paper"``)
+        in ``dtype``, when it is usable and not too large (:func:`hga_jax.turns.fits`);
+        otherwise without one, and the fitness decodes leg by leg. Built once per mode
+        (from the float64 tangent table), cast per dtype."""
+        sa = self.arrays(dtype)
+        if collision not in self._turns:
+            table = None
+            if turns.fits(self.n):
+                s64 = self.arrays(np.float64)
+                built = turns.build(s64.tangents, s64.start, s64.goal, s64.centres,
+                                    s64.model_radii, s64.bounds, collision)
+                table = built.entries if built.usable else None
+            self._turns[collision] = table
+        table = self._turns[collision]
+        if table is None:
+            return sa
+        field = "turns_full" if collision == "full" else "turns_paper"
+        return sa._replace(**{field: np.asarray(table, sa.centres.dtype)})
 
     def _build_arrays(self, dtype: np.dtype) -> "ScenarioArrays":
         f = self.field
@@ -100,6 +124,9 @@ class ScenarioArrays(NamedTuple):
     (already shrunk by the robot radius; infinite when the field is not kept).
     delta: () penalty length per violation (m).
     tangents: the :class:`~hga_jax.tangents.TangentTable` of the scenario.
+    turns_full, turns_paper: the turn table's entries (:mod:`hga_jax.turns`) for
+    each collision mode, or None (the fitness then decodes leg by leg); only
+    :meth:`Scenario.search_arrays` fills them.
     """
 
     start: Any
@@ -110,3 +137,5 @@ class ScenarioArrays(NamedTuple):
     bounds: Any
     delta: Any
     tangents: Any
+    turns_full: Any = None
+    turns_paper: Any = None

@@ -63,7 +63,7 @@ def test_blocks_equal_one_scan_and_run_batch_takes_a_list(robocup, monkeypatch):
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 4 * 50 * 4)
     assert budget.plan(9, s, 10, 4).block == 4  # generations 0, 1-4, 5-8, 9-12, 13
     res = run_many(robocup, s, seed=5, runs=10, chunk=4, exact=False)
-    sa = robocup.arrays()
+    sa = robocup.search_arrays()
     best, history = jax.jit(lambda: ga.run_batch(5, [0, 5, 9], sa, s))()  # a plain list
     for f in ("perm", "labels", "generation"):
         assert np.array_equal(np.asarray(getattr(best, f)), getattr(res, f)[[0, 5, 9]]), f
@@ -178,7 +178,7 @@ def test_one_compiled_generation_equals_the_scanned_one(robocup):
 
     from hga_jax import ga
 
-    s, sa = GASettings(generations=3), robocup.arrays()
+    s, sa = GASettings(generations=3), robocup.search_arrays()
     key = ga.run_key(7, 0)
     _, history = ga.run(key, sa, s)
     with jax.threefry_partitionable(False):  # the stream the GA draws from

@@ -1,0 +1,126 @@
+"""The turn table of a scenario: every turn of a path, with the tangent that leaves it, judged once.
+
+A tight-rope path is a chain of oriented circles ``c_0 (start), c_1, ..., c_m (goal)``
+(ids of :mod:`hga_jax.tangents`). Its length is the sum, over the circles, of the
+arc on ``c_k`` from where the tangent ``c_{k-1} -> c_k`` arrives to where the tangent
+``c_k -> c_{k+1}`` leaves, plus that leaving tangent; its violations add up the same
+way. When no two circles that can follow one another share a centre, an arrival
+point depends only on the pair ``(c_{k-1}, c_k)`` and a departure point only on
+``(c_k, c_{k+1})``, so each term is a function of the triple ``(a, b, c)`` alone and
+is computed here once per scenario:
+
+``length[a, b, c] = r_b * sweep + |tangent b -> c|`` and
+``violations[a, b, c]`` = the arc's violations (obstacles other than b's own, the
+field) + the tangent's (:mod:`hga_jax.tangents`),
+
+with ``a = C`` standing for the start point (the first arc begins there) and
+``c = C`` for the goal point (the last arc ends there, and no tangent follows). A
+path's length is then ``sum_k length[c_{k-1}, c_k, c_{k+1}]``: one lookup per
+circle of the path, whatever the number of obstacles. The sums equal
+:func:`hga_jax.decode.decode_batch`'s (tested chromosome by chromosome); a scenario
+with coincident centres that can follow one another (``usable`` is False) is
+decoded leg by leg instead.
+
+The arcs are judged with the functions of :mod:`hga_jax.geometry` in float64, each
+against the obstacles that can reach its circle at all (the others cannot come
+within their radius of any of its points). Host code (numpy); units are metres.
+"""
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from . import geometry as g
+from .tangents import TangentTable
+
+_REACH_MARGIN = 1e-3  # m: obstacles farther than this beyond reach are left out
+MAX_ENTRIES = 2**24  # turns; 134 MB in float32 (n = 100 needs 8.6 million)
+
+
+def entries(n: int) -> int:
+    """Number of turns of a scenario with ``n`` obstacles: ``(C + 1) * C * (C + 1)``."""
+    c = 2 * n + 4
+    return (c + 1) * c * (c + 1)
+
+
+def fits(n: int) -> bool:
+    """Whether a table is built for ``n`` obstacles (up to about 125; beyond that the
+    fitness decodes leg by leg rather than hold a table of more than ``MAX_ENTRIES``)."""
+    return entries(n) <= MAX_ENTRIES
+
+
+class TurnTable(NamedTuple):
+    """``(C + 1) * C * (C + 1)`` turns, flattened (index ``(a * C + b) * (C + 1) + c``).
+
+    entries: ``(T, 2)`` per turn: length (m) and violations (a small integer, exact
+    in floats) under the collision mode of the table. usable: whether lookups give
+    the decoder's values (no coincident centres along any possible path).
+    """
+
+    entries: Any
+    usable: bool
+
+
+def usable(tb: TangentTable) -> bool:
+    """No two circles that can follow one another on a path share a centre."""
+    c = tb.circles.shape[0]
+    ids = np.arange(c)
+    obstacle = np.asarray(tb.obstacle)
+    follows = ((ids[:, None] != ids[None, :])
+               & ~((obstacle[:, None] == obstacle[None, :]) & (obstacle[:, None] >= 0))
+               & ~np.isin(ids, (2, 3))[:, None]  # nothing leaves a goal circle
+               & ~np.isin(ids, (0, 1))[None, :])  # nothing arrives at a start circle
+    return not bool(np.any(np.asarray(tb.coincident) & follows))
+
+
+def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
+          collision: str) -> TurnTable:
+    """The turn table of a scenario from its float64 tangent table (see module doc).
+
+    ``collision``: ``"full"`` tests every arc against the obstacles' model circles;
+    ``"paper"`` only against the field (the paper's criterion judges segments only).
+    """
+    f8 = np.float64
+    tol = g.tolerances(f8)
+    circles = np.asarray(tb.circles, f8)
+    c = circles.shape[0]
+    cx, cy, r, sign = (circles[:, i] for i in range(4))
+    obstacle = np.asarray(tb.obstacle)
+    centres = np.asarray(centres, f8).reshape(-1, 2)
+    model_radii = np.asarray(model_radii, f8).reshape(-1)
+    bounds = np.asarray(bounds, f8)
+    start, goal = np.asarray(start, f8), np.asarray(goal, f8)
+    # Arrival points on b (rows a = 0..C-1, and a = C: the start point) and departure
+    # points from b (columns c = 0..C-1, and c = C: the goal point).
+    arr_x = np.vstack([np.asarray(tb.p2x, f8), np.full((1, c), start[0])])  # (C+1, C)
+    arr_y = np.vstack([np.asarray(tb.p2y, f8), np.full((1, c), start[1])])
+    dep_x = np.hstack([np.asarray(tb.p1x, f8), np.full((c, 1), goal[0])])  # (C, C+1)
+    dep_y = np.hstack([np.asarray(tb.p1y, f8), np.full((c, 1), goal[1])])
+    t_len = np.hstack([np.asarray(tb.length, f8), np.zeros((c, 1))])
+    t_vio = np.asarray(tb.violations_full if collision == "full" else tb.violations_paper)
+    t_vio = np.hstack([t_vio, np.zeros((c, 1), t_vio.dtype)]).astype(f8)
+    # A departure from a circle into a coincident one is the arrival point itself
+    # (the decoder's rule); such turns only occur when the table is not usable,
+    # but give them the decoder's value anyway.
+    coincident = np.hstack([np.asarray(tb.coincident, bool), np.zeros((c, 1), bool)])
+
+    out = np.empty((c + 1, c, c + 1, 2), f8)
+    for b in range(c):
+        ax, ay = arr_x[:, b][:, None], arr_y[:, b][:, None]  # (C+1, 1)
+        bx = np.where(coincident[b], ax, dep_x[b][None, :])  # (C+1, C+1)
+        by = np.where(coincident[b], ay, dep_y[b][None, :])
+        ax, ay = np.broadcast_to(ax, bx.shape), np.broadcast_to(ay, by.shape)
+        swp = g.sweep(ax - cx[b], ay - cy[b], bx - cx[b], by - cy[b], sign[b], tol.angle)
+        vio = g.arc_leaves_box(cx[b], cy[b], r[b], ax, ay, bx, by, swp, sign[b], bounds,
+                               tol.length).astype(f8)
+        if collision == "full" and centres.shape[0]:
+            d = np.hypot(centres[:, 0] - cx[b], centres[:, 1] - cy[b])
+            near = np.flatnonzero((np.abs(d - r[b]) <= model_radii + _REACH_MARGIN)
+                                  & (np.arange(centres.shape[0]) != obstacle[b]))
+            for j in near:
+                vio += g.arc_hits(cx[b], cy[b], r[b], ax, ay, bx, by, swp, sign[b],
+                                  centres[j, 0], centres[j, 1], model_radii[j], tol.length)
+        out[:, b, :, 0] = r[b] * swp + t_len[b][None, :]
+        out[:, b, :, 1] = vio + t_vio[b][None, :]
+    return TurnTable(entries=out.reshape(-1, 2), usable=usable(tb))

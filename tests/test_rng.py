@@ -1,0 +1,61 @@
+"""hga_jax.rng: the same numbers as JAX's threefry2x32, key by key and draw by draw."""
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from hga_jax import ga, rng
+
+DRAWS = {
+    "bits32": lambda k, s: jax.random.bits(k, s),
+    "bits16": lambda k, s: jax.random.bits(k, s, jnp.uint16),
+    "bits8": lambda k, s: jax.random.bits(k, s, jnp.uint8),
+    "uniform": lambda k, s: jax.random.uniform(k, s),
+    "randint": lambda k, s: jax.random.randint(k, s, 0, 11),
+    "bernoulli": lambda k, s: jax.random.bernoulli(k, 0.3, s),
+}
+
+
+def _data(k):
+    return np.asarray(jax.random.key_data(k))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 12345, 2**31 - 1])
+def test_keys_splits_and_fold_ins_are_threefrys(seed):
+    with jax.threefry_partitionable(False):
+        a, b = jax.random.key(seed), rng.key(seed)
+        assert np.array_equal(_data(a), _data(b))
+        for num in (1, 2, 3, 50):
+            assert np.array_equal(_data(jax.random.split(a, num)), _data(jax.random.split(b, num)))
+        for d in (0, 5, 99_999, 2**31 - 1):
+            assert np.array_equal(_data(jax.random.fold_in(a, d)), _data(jax.random.fold_in(b, d)))
+
+
+@pytest.mark.parametrize("name", sorted(DRAWS))
+@pytest.mark.parametrize("shape", [(3,), (7, 2), (11, 50)])
+def test_draws_are_threefrys_alone_jitted_and_vmapped(name, shape):
+    draw = DRAWS[name]
+    with jax.threefry_partitionable(False):
+        a, b = jax.random.split(jax.random.key(7), 5), jax.random.split(rng.key(7), 5)
+        assert np.array_equal(np.asarray(draw(a[0], shape)), np.asarray(draw(b[0], shape)))
+        batched = jax.jit(jax.vmap(lambda k: draw(k, shape)))
+        assert np.array_equal(np.asarray(batched(a)), np.asarray(batched(b)))
+
+
+def test_run_key_is_the_threefry_run_key():
+    with jax.threefry_partitionable(False):
+        want = jax.random.fold_in(jax.random.key(3), 17)
+    assert np.array_equal(_data(ga.run_key(3, 17)), _data(want))
+    assert jax.random.key_impl(ga.run_key(3, 17)) == jax.random.key_impl(rng.key(0))
+
+
+def test_the_hash_matches_the_published_test_vector():
+    """Threefry-2x32 with 20 rounds, key (0x13198a2e, 0x03707344), counter
+    (0x243f6a88, 0x85a308d3) gives (0xc4923a9c, 0x483df7a0) (Random123's known-answer
+    test, also used by JAX's own tests)."""
+    u = np.uint32
+    with np.errstate(over="ignore"):  # uint32 arithmetic wraps, as intended
+        y = rng.threefry2x32(u(0x13198A2E), u(0x03707344), u(0x243F6A88), u(0x85A308D3))
+    assert (int(y[0]), int(y[1])) == (0xC4923A9C, 0x483DF7A0)
