@@ -42,14 +42,21 @@ def threefry2x32(k1, k2, x1, x2):
 
 
 def _hash(key, count):
-    """Threefry of a flat uint32 ``count`` in JAX's original layout: the first and the
-    second half (padded with a 0 when odd) are the two counter words."""
-    size = count.shape[0]
-    if size % 2:
-        count = jnp.concatenate([count, jnp.zeros((1,), jnp.uint32)])
+    """Threefry of a flat uint32 ``count`` of even size in JAX's original layout: the
+    first and the second half are the two counter words."""
     half = count.shape[0] // 2
     y1, y2 = threefry2x32(key[0], key[1], count[:half], count[half:])
-    return jnp.concatenate([y1, y2])[:size]
+    return jnp.concatenate([y1, y2])
+
+
+def _hash_iota(key, size: int):
+    """:func:`_hash` of the counters ``0 .. size - 1``; an odd count is padded with a 0
+    (JAX's layout). The counter words are made from an iota rather than by padding
+    and splitting an array: under ``vmap`` that padding cost XLA five times the hash."""
+    half = (size + 1) // 2
+    i = jnp.arange(half, dtype=jnp.uint32)
+    y1, y2 = threefry2x32(key[0], key[1], i, jnp.where(i + half < size, i + half, np.uint32(0)))
+    return jnp.concatenate([y1, y2[:size - half]])
 
 
 def _seed(seed):
@@ -57,8 +64,7 @@ def _seed(seed):
 
 
 def _split(key, shape):
-    num = math.prod(shape)
-    return _hash(key, jnp.arange(2 * num, dtype=jnp.uint32)).reshape(*shape, 2)
+    return _hash_iota(key, 2 * math.prod(shape)).reshape(*shape, 2)
 
 
 def _fold_in(key, data):
@@ -71,7 +77,7 @@ def _random_bits(key, bit_width, shape):
     words = -(-bit_width * size // 32)
     if words >= 2**32 - 1:
         raise NotImplementedError("more than 2**32 - 2 random words from one key")
-    bits = _hash(key, jnp.arange(words, dtype=jnp.uint32))
+    bits = _hash_iota(key, words)
     if bit_width == 64:
         hi, lo = (b.astype(jnp.uint64) for b in jnp.split(bits, 2))
         return ((hi << np.uint64(32)) | lo).reshape(shape)
