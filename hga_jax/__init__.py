@@ -11,7 +11,7 @@ Notebook use::
 
 The model and the result files are defined in docs/model.md.
 """
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 from .config import load_scenario, scenario_from_dict
 from .errors import ConfigError, Interrupted, ModelMismatchError

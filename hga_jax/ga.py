@@ -129,44 +129,85 @@ def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
     return GAState(pop, _update_best(worst, pop, 0, settings))
 
 
-def _pairwise(key, op, prob, a, b):
-    """Apply the pair operator ``op`` to each pair (a[i], b[i]) with probability ``prob``."""
-    kd, ko = jax.random.split(key)
-    ca, cb = jax.vmap(op)(jax.random.split(ko, a.shape[0]), a, b)
-    do = jax.random.bernoulli(kd, prob, (a.shape[0], 1))
+class Draw(NamedTuple):
+    """One generation's random words, drawn at once: ``(rows, P)`` uint32 (population
+    innermost), cut into the rows each part of the generation uses."""
+
+    words: Any
+
+    def rows(self, start: int, count: int):
+        return self.words[start:start + count]
+
+
+# Rows of a generation's draw (P = population; pair rows use their first P // 2 columns).
+_SELECT = 0  # 2 rows: the selection's key
+_CROSS_UPPER = 2  # 3 rows: do-word and key of each pair (permutation crossover)
+_MUTATE_UPPER = 5  # 3 rows: do-word and key of each individual (permutation mutation)
+_CROSS_LOWER = 8  # 3 rows: do-word and key of each pair (label crossover)
+_REDRAW = 11  # L = n + 2 rows: one word per label gene
+
+
+def draw_rows(n: int) -> int:
+    """Words per individual a generation draws (:data:`_REDRAW` + ``n + 2``)."""
+    return _REDRAW + n + 2
+
+
+def unit(words):
+    """Floats uniform on the grid ``k / 2**24`` in [0, 1) from uint32 words (top 24 bits):
+    exact in float32, so ``unit(w) < p`` is never true for p = 0 and always for p = 1."""
+    return (words >> 8).astype(jnp.float32) * jnp.float32(2.0**-24)
+
+
+def _keys(rows):
+    """Keys (of :mod:`hga_jax.rng`) from two rows of words: ``(count,)`` keys."""
+    return jax.random.wrap_key_data(jnp.stack([rows[0], rows[1]], axis=-1), impl=rng.IMPL)
+
+
+def _pairwise(rows, op, prob, a, b):
+    """Apply the pair operator ``op`` to each pair (a[i], b[i]) with probability ``prob``;
+    ``rows`` (3, >= pairs): the do-word and the two key words of each pair."""
+    m = a.shape[0]
+    ca, cb = jax.vmap(op)(_keys(rows[1:, :m]), a, b)
+    do = (unit(rows[0, :m]) < prob)[:, None]
     return jnp.where(do, ca, a), jnp.where(do, cb, b)
 
 
-def _crossover(key, op, prob, x):
+def _crossover(rows, op, prob, x):
     """Pair consecutive rows (0,1), (2,3), ...; an odd last row passes unchanged."""
     half = x.shape[0] // 2
-    a, b = _pairwise(key, op, prob, x[0:2 * half:2], x[1:2 * half:2])
+    a, b = _pairwise(rows, op, prob, x[0:2 * half:2], x[1:2 * half:2])
     paired = jnp.stack([a, b], axis=1).reshape((2 * half,) + x.shape[1:])
     return jnp.concatenate([paired, x[2 * half:]])
 
 
 @_fixed_stream
 def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
-    """One generation: select, vary both modules, evaluate, keep elites, track the best."""
-    ks, kcu, kmu, kcl, kml = jax.random.split(key, 5)
+    """One generation: select, vary both modules, evaluate, keep elites, track the best.
+
+    All its random words come from one draw, ``bits(key, (draw_rows(n), P))``: the
+    selection's key, each pair's and individual's do-word and operator key, one word
+    per label gene (:class:`Draw`). Operators still take keys (their signature), made
+    from two words each.
+    """
     old = state.pop
+    p, n = old.perm.shape[0], old.perm.shape[1]
+    d = Draw(jax.random.bits(key, (draw_rows(n), p), dtype=jnp.uint32))
     pick = selection.SELECTIONS[settings.selection]
-    idx = pick(ks, old.fitness, settings.population, settings.tournament_size)
+    idx = pick(_keys(d.rows(_SELECT, 2)[:, :1])[0], old.fitness, settings.population,
+               settings.tournament_size)
     perm, labels = old.perm[idx], old.labels[idx]
 
-    n = perm.shape[1]
     if n >= 2:
-        perm = _crossover(kcu, perm_ops.CROSSOVERS[settings.perm_crossover],
+        perm = _crossover(d.rows(_CROSS_UPPER, 3), perm_ops.CROSSOVERS[settings.perm_crossover],
                           settings.pc_upper, perm)
-        kd, ko = jax.random.split(kmu)
-        mutate = jax.vmap(perm_ops.MUTATIONS[settings.perm_mutation])
-        mutated = mutate(jax.random.split(ko, perm.shape[0]), perm)
-        do = jax.random.bernoulli(kd, settings.pm_upper, (perm.shape[0], 1))
+        rows = d.rows(_MUTATE_UPPER, 3)
+        mutated = jax.vmap(perm_ops.MUTATIONS[settings.perm_mutation])(_keys(rows[1:]), perm)
+        do = (unit(rows[0]) < settings.pm_upper)[:, None]
         perm = jnp.where(do, mutated, perm)
-    labels = _crossover(kcl, label_ops.CROSSOVERS[settings.label_crossover],
+    labels = _crossover(d.rows(_CROSS_LOWER, 3), label_ops.CROSSOVERS[settings.label_crossover],
                         settings.pc_lower, labels)
-    labels = jax.vmap(label_ops.redraw, (0, 0, None))(
-        jax.random.split(kml, labels.shape[0]), labels, settings.pm_lower)
+    genes = d.rows(_REDRAW, n + 2).T  # (P, L)
+    labels = label_ops.redraw_apply(labels, *label_ops.redraw_mask(genes, settings.pm_lower))
 
     pop = _evaluated(sa, perm, labels, settings)
     if settings.elites:

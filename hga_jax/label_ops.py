@@ -72,9 +72,15 @@ def redraw_draw(key: Array, L: int, pm: float | Array) -> tuple[Array, Array]:
     """``(mask, choice)``: ``mask[k]`` True with probability ``pm``, independently
     per gene; ``choice[k]`` a fair random bit (which other value a middle gene
     takes)."""
-    bits = jax.random.bits(key, (L,), dtype=jnp.uint32)
-    # The top 24 bits give u uniform on a grid in [0, 1) (exact in float32, so
-    # pm = 1 always fires and pm = 0 never); the lowest bit is the choice.
+    return redraw_mask(jax.random.bits(key, (L,), dtype=jnp.uint32), pm)
+
+
+def redraw_mask(bits: Array, pm: float | Array) -> tuple[Array, Array]:
+    """``(mask, choice)`` of :func:`redraw_draw` from one uint32 word per gene.
+
+    The top 24 bits give u uniform on a grid in [0, 1) (exact in float32, so
+    pm = 1 always fires and pm = 0 never); the lowest bit is the choice.
+    """
     u = (bits >> 8).astype(jnp.float32) * jnp.float32(2.0**-24)
     return u < pm, (bits & 1) == 1
 

@@ -177,6 +177,9 @@ def _median(values: np.ndarray) -> float | None:
     return float(np.median(values)) if len(values) else None
 
 
+RANDOM_STREAM = "generation-draw"  # hga-jax 0.2: one draw per generation (0.1: "operator-draws")
+
+
 def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
     """A JSON-safe result.json: the scenario and version header, then ``body``."""
     import jax
@@ -191,6 +194,7 @@ def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
                      "definition": scenario_to_dict(scenario)},
         "versions": {"hga_jax": __version__, "jax": jax.__version__, "numpy": np.__version__,
                      "python": platform.python_version()},
+        "random_stream": RANDOM_STREAM,
         **body,
     })
 

@@ -140,6 +140,7 @@ def test_exact_command_writes_the_optimum(tmp_path, capsys):
     assert "optimum 2.245430 m" in printed and "2CW 4CW 5CCW 6CW" in printed
     data = json.loads((out / "result.json").read_text())
     assert set(data) >= {"scenario_name", "settings", "versions", "best", "optimum", "per_run"}
+    assert data["random_stream"] == "generation-draw"
     best = data["best"]
     assert best["feasible"] and best["length"] == data["optimum"]["length"]
     assert best["upper"] == [0, 2, 4, 5, 6, 1, 3, 7, 8, 9, 10]
