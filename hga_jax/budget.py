@@ -10,6 +10,7 @@ estimated before anything is compiled:
   memory analysis of the compiled programs: at most 97 at n = 0, 9 and 28, so
   about twice that is planned), the generation keys (8 bytes per run and
   generation) and one block of records;
+- once: the scenario's turn table (up to about 200 MB at 100 obstacles);
 - on the host, for the whole job: the history (5 figures of 4 bytes per run and
   generation, kept twice while statistics are taken) and the per-run results.
 
@@ -28,7 +29,7 @@ from .errors import ConfigError
 from .settings import GASettings
 
 CHROMOSOMES_PER_CHUNK = 50_000  # beyond this the working set leaves the cache
-BLOCK_WORK = 2_500_000  # evaluations x obstacles per block: about 0.2 s on one CPU core
+BLOCK_WORK = 10_000_000  # evaluations x obstacles per block: about 0.2 s on one CPU core
 DEVICE_BYTES_PER_GENE = 160  # per individual and gene (n + 2 genes); measured: at most 97
 DEVICE_BYTES_FIXED = 256  # per individual: selection, records
 HOST_BYTES_PER_RUN = 4096  # per run: best chromosome, statistics, its result.json entry
@@ -78,6 +79,17 @@ def device_bytes(n: int, settings: GASettings, chunk: int, block: int) -> int:
     return chunk * per_run
 
 
+def table_bytes(n: int, settings: GASettings) -> int:
+    """The scenario's turn table (:mod:`hga_jax.turns`), held once: two floats per turn
+    in the search precision, and the float64 table it is cast from."""
+    from . import turns
+
+    if not turns.fits(n):
+        return 0
+    size = 8 if settings.precision == "float64" else 4
+    return turns.entries(n) * 2 * (size + 8)
+
+
 def host_bytes(n: int, settings: GASettings, runs: int) -> int:
     """Estimated host memory of the results of ``runs`` runs (bytes)."""
     return runs * (HISTORY_BYTES * (settings.generations + 1) + HOST_BYTES_PER_RUN + 64 * n)
@@ -104,6 +116,7 @@ def plan(n: int, settings: GASettings, runs: int, chunk: int | None, devices: in
     multiple of ``devices``.
     """
     avail = int(FILL * (available_bytes() if available is None else available))
+    avail -= table_bytes(n, settings)
     p, g = settings.population, settings.generations
     host = host_bytes(n, settings, runs)
     one_run = device_bytes(n, settings, devices, 1) // devices
@@ -129,10 +142,11 @@ def plan(n: int, settings: GASettings, runs: int, chunk: int | None, devices: in
     size = max(devices, math.ceil(size / devices) * devices)
     if size > fit_runs:
         size -= devices
-    block = max(1, min(g, math.ceil(BLOCK_WORK / max(n, 4) / (size * p)))) if g else 1
+    total = g + 1  # generation 0 is a generation of the block program too
+    block = max(1, min(total, math.ceil(BLOCK_WORK / max(n, 4) / (size * p))))
     # A block that divides the generations needs no masked steps: take the nearest
     # divisor within a factor of two, if there is one.
-    near = [d for d in range(max(1, block // 2), min(g, 2 * block) + 1) if g % d == 0]
+    near = [d for d in range(max(1, block // 2), min(total, 2 * block) + 1) if total % d == 0]
     if near:
         block = min(near, key=lambda d: (abs(d - block), d))
     return Plan(chunk=size, batches=math.ceil(runs / size), block=block,

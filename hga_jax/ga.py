@@ -11,9 +11,10 @@ Everything here is a pure function of arrays, a PRNG key and the static
 inside a batch of any size.
 
 A run can be taken whole (:func:`run`, one ``lax.scan`` over the generations) or
-in blocks of generations (:func:`start`, then :func:`advance` again and again on
-the host, carrying the state), which gives bit-identical results and lets the
-host stop, report progress and bound memory between blocks.
+in blocks of generations (:func:`generations` from :func:`blank`, again and again
+on the host, carrying the state; one compiled program does every block, generation
+0 included), which gives bit-identical results and lets the host stop, report
+progress and bound memory between blocks.
 """
 from __future__ import annotations
 
@@ -116,17 +117,24 @@ def _record(pop: Population, best: Best) -> Record:
     return Record(jnp.max(pop.fitness), mean, best.fitness, best.length, best.violations)
 
 
+def _fresh(key, n: int, settings: GASettings):
+    """Generation 0's chromosomes: random permutations and labels."""
+    kp, kl = jax.random.split(key)
+    return (perm_ops.random_permutation(kp, n, (settings.population,)),
+            label_ops.random_labels(kl, n + 2, (settings.population,)))
+
+
+def _unset(pop: Population) -> Best:
+    """A best-so-far that any evaluated individual beats (before generation 0)."""
+    return Best(pop.perm[0], pop.labels[0], jnp.asarray(-jnp.inf, pop.fitness.dtype),
+                pop.length[0], pop.violations[0], jnp.asarray(0, jnp.int32))
+
+
 @_fixed_stream
 def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
     """Random initial population (generation 0), evaluated."""
-    n, p = sa.centres.shape[0], settings.population
-    kp, kl = jax.random.split(key)
-    perm = perm_ops.random_permutation(kp, n, (p,))
-    labels = label_ops.random_labels(kl, n + 2, (p,))
-    pop = _evaluated(sa, perm, labels, settings)
-    worst = Best(perm[0], labels[0], jnp.asarray(-jnp.inf, pop.fitness.dtype), pop.length[0],
-                 pop.violations[0], jnp.asarray(0, jnp.int32))
-    return GAState(pop, _update_best(worst, pop, 0, settings))
+    pop = _evaluated(sa, *_fresh(key, sa.centres.shape[0], settings), settings)
+    return GAState(pop, _update_best(_unset(pop), pop, 0, settings))
 
 
 class Draw(NamedTuple):
@@ -180,16 +188,14 @@ def _crossover(rows, op, prob, x):
     return jnp.concatenate([paired, x[2 * half:]])
 
 
-@_fixed_stream
-def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
-    """One generation: select, vary both modules, evaluate, keep elites, track the best.
+def _vary(key, old: Population, settings: GASettings):
+    """Select parents from ``old`` and vary both modules: the children's chromosomes.
 
-    All its random words come from one draw, ``bits(key, (draw_rows(n), P))``: the
+    All random words come from one draw, ``bits(key, (draw_rows(n), P))``: the
     selection's key, each pair's and individual's do-word and operator key, one word
     per label gene (:class:`Draw`). Operators still take keys (their signature), made
     from two words each.
     """
-    old = state.pop
     p, n = old.perm.shape[0], old.perm.shape[1]
     d = Draw(jax.random.bits(key, (draw_rows(n), p), dtype=jnp.uint32))
     pick = selection.SELECTIONS[settings.selection]
@@ -207,14 +213,25 @@ def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generati
     labels = _crossover(d.rows(_CROSS_LOWER, 3), label_ops.CROSSOVERS[settings.label_crossover],
                         settings.pc_lower, labels)
     genes = d.rows(_REDRAW, n + 2).T  # (P, L)
-    labels = label_ops.redraw_apply(labels, *label_ops.redraw_mask(genes, settings.pm_lower))
+    return perm, label_ops.redraw_apply(labels, *label_ops.redraw_mask(genes, settings.pm_lower))
 
-    pop = _evaluated(sa, perm, labels, settings)
-    if settings.elites:
-        e = settings.elites
-        elite = jnp.argsort(-old.fitness)[:e]
-        worst = jnp.argsort(pop.fitness)[:e]
-        pop = jax.tree.map(lambda new, prev: new.at[worst].set(prev[elite]), pop, old)
+
+def _elitist(pop: Population, old: Population, settings: GASettings) -> Population:
+    """The ``elites`` best of ``old`` replace the worst of ``pop``."""
+    if not settings.elites:
+        return pop
+    e = settings.elites
+    elite = jnp.argsort(-old.fitness)[:e]
+    worst = jnp.argsort(pop.fitness)[:e]
+    return jax.tree.map(lambda new, prev: new.at[worst].set(prev[elite]), pop, old)
+
+
+@_fixed_stream
+def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
+    """One generation after the first: select, vary both modules (:func:`_vary`),
+    evaluate, keep elites, track the best."""
+    pop = _evaluated(sa, *_vary(key, state.pop, settings), settings)
+    pop = _elitist(pop, state.pop, settings)
     best = _update_best(state.best, pop, generation, settings)
     return GAState(pop, best), _record(pop, best)
 
@@ -236,36 +253,54 @@ def run(key, sa: ScenarioArrays, settings: GASettings):
     return state, history
 
 
+def blank(sa: ScenarioArrays, settings: GASettings) -> GAState:
+    """The state of a run before generation 0 (zeros; :func:`generations` from 0
+    ignores it). Shapes and dtypes are those of every later state."""
+    n, p = sa.centres.shape[0], settings.population
+    dt = jnp.asarray(sa.centres).dtype
+    pop = Population(jnp.zeros((p, n), jnp.int32), jnp.zeros((p, n + 2), jnp.int32),
+                     jnp.zeros((p,), dt), jnp.zeros((p,), dt), jnp.zeros((p,), jnp.int32))
+    return GAState(pop, _unset(pop))
+
+
+def _generation(k0, keys, state: GAState, g, sa: ScenarioArrays, settings: GASettings):
+    """Generation ``g`` (traced) of a run: 0 draws the initial population from ``k0``,
+    later ones vary ``state`` with ``keys[g - 1]``; one evaluation serves both."""
+    n, total = sa.centres.shape[0], settings.generations
+    perm, labels = jax.lax.cond(
+        g == 0, lambda _: _fresh(k0, n, settings),
+        lambda _: _vary(keys[jnp.clip(g - 1, 0, max(total - 1, 0))], state.pop, settings), None)
+    pop = _evaluated(sa, perm, labels, settings)
+    if settings.elites:
+        kept = _elitist(pop, state.pop, settings)
+        pop = jax.tree.map(lambda a, b: jnp.where(g > 0, a, b), kept, pop)
+    before = jax.tree.map(lambda a, b: jnp.where(g > 0, a, b), state.best, _unset(pop))
+    best = _update_best(before, pop, g, settings)
+    return GAState(pop, best), _record(pop, best)
+
+
 @_fixed_stream
-def start(seed, k, sa: ScenarioArrays, settings: GASettings):
-    """Generation 0 of run ``k`` of ``seed``: ``(GAState, Record, keys)``.
+def generations(seed, k, state: GAState, first, sa: ScenarioArrays, settings: GASettings,
+                steps: int):
+    """Generations ``first .. first + steps - 1`` of run ``k`` of ``seed``, from ``state``
+    (:func:`blank` when ``first`` is 0): ``(GAState, Record of (steps,))``.
 
-    ``keys`` (G,) are the keys of generations 1..G, the very keys :func:`run` uses;
-    :func:`advance` takes them.
-    """
-    k0, kg = jax.random.split(run_key(seed, k))
-    state = init(k0, sa, settings)
-    return state, _record(state.pop, state.best), jax.random.split(kg, settings.generations)
-
-
-@_fixed_stream
-def advance(state: GAState, keys, first, sa: ScenarioArrays, settings: GASettings, steps: int):
-    """Generations ``first .. first + steps - 1`` of a run: ``(GAState, Record of (steps,))``.
-
-    ``keys``: the run's generation keys from :func:`start`; ``first`` (>= 1) may be a
-    traced scalar (one compiled program serves every block). Generations past
+    The very generations :func:`run` computes, so a run taken in blocks is
+    bit-identical to the whole scan. ``first`` (>= 0) may be traced: one compiled
+    program serves every block, generation 0 included. Generations past
     ``settings.generations`` leave the state unchanged and record zeros (the host
     drops them); ``steps`` is static.
     """
     total = settings.generations
-    ragged = total % steps != 0 if total else False
+    k0, kg = jax.random.split(run_key(seed, k))
+    keys = jax.random.split(kg, max(total, 1))
+    ragged = (total + 1) % steps != 0
 
     def body(st, i):
         g = first + i
-        k = keys[jnp.clip(g - 1, 0, max(total - 1, 0))]
         if not ragged:
-            return step(k, st, sa, settings, g)
-        return jax.lax.cond(g <= total, lambda s: step(k, s, sa, settings, g),
+            return _generation(k0, keys, st, g, sa, settings)
+        return jax.lax.cond(g <= total, lambda s: _generation(k0, keys, s, g, sa, settings),
                             lambda s: (s, _zero_record(s)), st)
 
     return jax.lax.scan(body, state, jnp.arange(steps, dtype=jnp.int32))
@@ -287,15 +322,17 @@ def run_indices(ks):
     return ks.astype(jnp.int32)
 
 
-def start_batch(seed, ks, sa: ScenarioArrays, settings: GASettings):
-    """:func:`start` for each run index in ``ks`` (a sequence or 1-D array), vmapped."""
-    return jax.vmap(lambda k: start(seed, k, sa, settings))(run_indices(ks))
+def generations_batch(seed, ks, state: GAState, first, sa: ScenarioArrays,
+                      settings: GASettings, steps: int):
+    """:func:`generations` for each run index in ``ks`` (a sequence or 1-D array) and
+    its state (leading run axis), vmapped."""
+    return jax.vmap(lambda k, st: generations(seed, k, st, first, sa, settings, steps))(
+        run_indices(ks), state)
 
 
-def advance_batch(state: GAState, keys, first, sa: ScenarioArrays, settings: GASettings,
-                  steps: int):
-    """:func:`advance` for a batch of runs (leading axis of ``state`` and ``keys``)."""
-    return jax.vmap(lambda st, kk: advance(st, kk, first, sa, settings, steps))(state, keys)
+def blank_batch(runs: int, sa: ScenarioArrays, settings: GASettings) -> GAState:
+    """:func:`blank` for ``runs`` runs (leading run axis)."""
+    return jax.tree.map(lambda a: jnp.broadcast_to(a, (runs,) + a.shape), blank(sa, settings))
 
 
 compiled_step = jax.jit(step, static_argnames="settings")

@@ -1,7 +1,7 @@
 """Host side of many seeded runs: batches, blocks, sharding, timing, float64 re-evaluation.
 
 ``run_many`` sizes the job (:mod:`hga_jax.budget`), compiles one batch shape (a
-chunk of runs) as two programs, generation 0 and a block of generations, feeds
+chunk of runs) as one program, a block of generations (generation 0 included), feeds
 it chunks of run indices (the last one padded), loops over the blocks on the
 host carrying the state (progress and Ctrl-C between blocks), shards each chunk
 over the devices when there are several, and re-evaluates every run's best
@@ -23,7 +23,7 @@ from . import budget
 from .errors import ConfigError, Interrupted
 from .exact import solve
 from .fitness import fitness_of
-from .ga import Record, advance_batch, start_batch
+from .ga import Record, blank_batch, generations_batch
 from .report import count
 from .path import decode64, evaluate_path
 from .results import RunsResult
@@ -137,30 +137,19 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
             ks0 = _put(ks_all[:size], sharding)
-            begin = _compiled(("begin", seed, settings) + shapes, lambda: jax.jit(
-                functools.partial(start_batch, seed, settings=settings)).lower(ks0, sa).compile())
+            blank = _put_tree(blank_batch(size, sa, settings), sharding)
+            block = _compiled(("block", seed, settings) + shapes, lambda: jax.jit(
+                functools.partial(generations_batch, seed, settings=settings, steps=cut.block)
+            ).lower(ks0, blank, np.int32(0), sa).compile())
             compile_s, search_s = time.perf_counter() - t0, 0.0
             compiling = False
-            step = None
             for b, lo in enumerate(range(0, len(ks_all), size)):
                 done = 0
                 t0 = time.perf_counter()
                 real = min(size, runs - lo)
-                state, rec0, keys = begin(_put(ks_all[lo:lo + size], sharding), sa)
-                _store(hist, rec0, 0, 1, lo, real)
-                if step is None and gens:
-                    t1 = time.perf_counter()
-                    compiling = True
-                    step = _compiled(("step", settings) + shapes, lambda: jax.jit(
-                        functools.partial(advance_batch, settings=settings, steps=cut.block)
-                    ).lower(state, keys, np.int32(1), sa).compile())
-                    compile_s += time.perf_counter() - t1
-                    compiling = False
-                    t0 += time.perf_counter() - t1
-                done = 1
-                _tick(bar, 1)
-                for first in range(1, gens + 1, cut.block):
-                    state, recs = step(state, keys, np.int32(first), sa)
+                ks, state = _put(ks_all[lo:lo + size], sharding), blank
+                for first in range(0, gens + 1, cut.block):
+                    state, recs = block(ks, state, np.int32(first), sa)
                     steps = min(cut.block, gens + 1 - first)
                     _store(hist, recs, first, steps, lo, real)
                     done += steps
@@ -198,6 +187,10 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
 
 def _put(ks: np.ndarray, sharding: Any) -> Any:
     return jax.device_put(ks, sharding) if sharding else ks
+
+
+def _put_tree(tree: Any, sharding: Any) -> Any:
+    return jax.tree.map(lambda a: _put(a, sharding), tree)
 
 
 def _record_dtypes(dtype: Any) -> dict[str, Any]:

@@ -36,7 +36,7 @@ def roulette(key: Array, fitness: Array, count: int, size: int = 2) -> Array:
     cdf = prefix_sum(fitness)  # shape-independent rounding: run k is the same in any batch
     u = jax.random.uniform(key, (count,), dtype=cdf.dtype) * cdf[-1]
     # The first i with cdf[i] > u; the clip guards float rounding at the top.
-    idx = jnp.searchsorted(cdf, u, side="right")
+    idx = jnp.searchsorted(cdf, u, side="right", method="compare_all")
     return jnp.minimum(idx, fitness.shape[-1] - 1).astype(jnp.int32)
 
 

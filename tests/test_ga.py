@@ -49,7 +49,7 @@ def test_chunking_and_blocks_do_not_change_runs(robocup, batch100, monkeypatch):
 
     # About 3 generations per block: the nearest divisor of 50 is taken.
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 7 * 50 * 3)
-    assert budget.plan(9, batch100.settings, 30, 7).block == 2
+    assert budget.plan(9, batch100.settings, 30, 7).block == 3
     part = run_many(robocup, seed=3, runs=30, first_run=10, chunk=7, exact=False)
     _same_runs(part, batch100, slice(None), slice(10, 40))
 
@@ -59,9 +59,9 @@ def test_blocks_equal_one_scan_and_run_batch_takes_a_list(robocup, monkeypatch):
 
     from hga_jax import budget, ga
 
-    s = GASettings(generations=13)  # prime: no divisor near 4, so the last block is ragged
+    s = GASettings(generations=12)  # 13 generations, prime: no divisor near 4, a ragged last block
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 4 * 50 * 4)
-    assert budget.plan(9, s, 10, 4).block == 4  # generations 0, 1-4, 5-8, 9-12, 13
+    assert budget.plan(9, s, 10, 4).block == 4  # generations 0-3, 4-7, 8-11, 12
     res = run_many(robocup, s, seed=5, runs=10, chunk=4, exact=False)
     sa = robocup.search_arrays()
     best, history = jax.jit(lambda: ga.run_batch(5, [0, 5, 9], sa, s))()  # a plain list

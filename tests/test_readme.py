@@ -53,7 +53,7 @@ def test_python_snippets_run_as_written(tmp_path, monkeypatch, registries):
                                                 "result.json"]
     res, opt = namespace["res"], namespace["opt"]
     assert len(res.length) == 200 and opt.length == pytest.approx(2.24543, abs=1e-5)
-    assert namespace["records"].best_fitness.shape == (10,)
+    assert namespace["records"].best_fitness.shape == (11,)
     assert namespace["best"].perm.shape == (3, 9)
 
 
