@@ -14,7 +14,8 @@ from hga_jax.distributed import share
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
 # 25 runs from run 3: uneven shares over two processes (runs 3..15 and 16..27);
 # batches of 6 runs, so the single process and both shares compile the same shapes
-# (the compiled programs are kept in a folder shared by the three processes).
+# (process 0 finds the single process's programs on disk; JAX writes and reads
+# them from process 0 only).
 JOB = [ROBOCUP, "--runs", "25", "--first-run", "3", "--seed", "4", "--generations", "5",
        "--population", "12", "--chunk", "6", "--json", "--quiet"]
 TIMINGS = {("summary", "compile_s"), ("summary", "search_s"), ("summary", "evaluations_per_s"),
