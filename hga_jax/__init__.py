@@ -13,6 +13,7 @@ The model and the result files are defined in docs/model.md.
 """
 __version__ = "0.2.0"
 
+from . import distributed  # hga_jax.distributed.initialize: one job over several processes
 from .config import load_scenario, scenario_from_dict
 from .errors import ConfigError, Interrupted, ModelMismatchError
 from .exact import solve

@@ -56,7 +56,7 @@ def available_bytes() -> int:
     try:
         import jax
 
-        stats = jax.devices()[0].memory_stats() or {}
+        stats = jax.local_devices()[0].memory_stats() or {}
         if stats.get("bytes_limit"):
             return int(stats["bytes_limit"]) - int(stats.get("bytes_in_use", 0))
     except Exception:  # noqa: BLE001 - no device statistics: use the host's figure

@@ -9,6 +9,11 @@ error names the source of each value it involves. Bad input ends with one line
 is written. Result files are written before anything is printed, and a folder
 holds one result: an earlier result is only replaced with ``--force``.
 
+``run --distributed`` spreads one job over several processes
+(:mod:`hga_jax.distributed`): every process runs the same command, process 0
+writes and prints; bad input found by any process stops all of them with the
+same line.
+
 Exit status: 0 done (also when standard output was closed early, e.g. by
 ``| head``); 1 an input/output error (standard output full, a file that cannot
 be written); 2 bad input; 3 an internal error (a bug: please report it); 130
@@ -92,6 +97,19 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--no-exact", action="store_true",
                      help="skip the exact optimum and the gaps to it")
     _output_args(run, "results/<scenario file name>")
+    d = run.add_argument_group(
+        "several processes", "one job over several processes (JAX's multi-process runtime): "
+        "every process runs the same command and searches its share of the runs; process 0 "
+        "writes and prints the whole result, the same as one process would")
+    d.add_argument("--distributed", action="store_true",
+                   help="join a multi-process job; under SLURM (srun) or Open MPI the processes "
+                   "find each other by themselves, else give the three options below")
+    d.add_argument("--coordinator", metavar="HOST:PORT", help="process 0's address and a free "
+                   "port, the same for every process (implies --distributed)")
+    d.add_argument("--num-processes", type=int, metavar="N",
+                   help="processes in the job (implies --distributed)")
+    d.add_argument("--process-id", type=int, metavar="K",
+                   help="this process's number, 0..N-1 (implies --distributed)")
 
     ex = sub.add_parser("exact", help="the model's exact optimum (tangent-graph shortest path)",
                         formatter_class=_Help, description="The model's exact optimum: the "
@@ -216,19 +234,33 @@ def _cmd_run(args) -> int:
     scenario = load_scenario(args.scenario)
     settings = _settings(scenario, args.ga, {k: getattr(args, k) for k in GA_FLAGS})
     _check_run_flags(args)
+    joined = args.distributed or any(v is not None for v in (
+        args.coordinator, args.num_processes, args.process_id))
+    from . import distributed
+
+    if joined:  # before anything starts JAX's runtime
+        distributed.initialize(args.coordinator, args.num_processes, args.process_id,
+                               source="command line")
     import jax
 
     from . import budget, report
     from .output import check_folder
 
-    budget.plan(scenario.n, settings, args.runs, args.chunk, jax.device_count())
     out = args.out or _default_out(args.scenario)
-    check_folder(out, args.force)
+
+    def check() -> None:  # the job must fit (each process holds the whole result)
+        budget.plan(scenario.n, settings, args.runs, args.chunk, jax.local_device_count())
+        if jax.process_index() == 0:  # the process that writes
+            check_folder(out, args.force)
+
+    distributed.together(check) if joined else check()
     _cache(args)
     from .runner import run_many
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet)
+    if jax.process_index() != 0:  # process 0 writes and prints the result
+        return 0
     with _ctrl_c_deferred():
         written = report.write_run(res, out, plot=args.plot, force=args.force)
     if args.json:

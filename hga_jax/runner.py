@@ -4,8 +4,10 @@
 chunk of runs) as one program, a block of generations (generation 0 included), feeds
 it chunks of run indices (the last one padded), loops over the blocks on the
 host carrying the state (progress and Ctrl-C between blocks), shards each chunk
-over the devices when there are several, and re-evaluates every run's best
-chromosome in float64 before anything is reported.
+over the process's devices when there are several, and re-evaluates every run's
+best chromosome in float64 before anything is reported. In a multi-process job
+each process does this for its share of the runs, and the runs are gathered to
+every process (:mod:`hga_jax.distributed`).
 """
 from __future__ import annotations
 
@@ -14,7 +16,7 @@ import os
 import sys
 import time
 import warnings
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import jax
 import numpy as np
@@ -86,8 +88,8 @@ def settings_for(scenario: Scenario, base: GASettings | None = None) -> GASettin
 
 
 def _sharding():
-    """Split the run axis over all devices when there are several (None: one device)."""
-    devices = jax.devices()
+    """Split the run axis over this process's devices when there are several (None: one)."""
+    devices = jax.local_devices()
     if len(devices) < 2:
         return None
     mesh = jax.sharding.Mesh(np.asarray(devices), ("runs",))
@@ -106,6 +108,13 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
     results cannot fit). Each batch runs in blocks of generations, so Ctrl-C stops
     the job within a block (:class:`~hga_jax.errors.Interrupted`); ``progress``
     shows a bar of generations on stderr.
+
+    In a multi-process job (after :func:`hga_jax.distributed.initialize`) every
+    process makes the same call: each searches its share of the runs on its own
+    devices (:func:`hga_jax.distributed.share`), the runs are gathered to every
+    process in run order, and every process returns the whole job's result, the
+    one a single process gives; ``compile_s`` and ``search_s`` are then the
+    slowest process's, and only process 0 shows progress.
     """
     settings = settings or settings_for(scenario)
     for key, value, low, high in (("seed", seed, 0, 2**32), ("runs", runs, 1, 2**31),
@@ -114,9 +123,68 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
         if not (isinstance(value, (int, np.integer)) and low <= value < high):
             raise ConfigError(f"run_many: {key}: must be an integer in {low}..{high - 1}, "
                               f"got {value!r}")
-    cut = budget.plan(scenario.n, settings, runs, chunk, jax.device_count(), source="run_many")
-    size, gens = cut.chunk, settings.generations
+    procs, me = jax.process_count(), jax.process_index()
+    if procs == 1:
+        found = _search(scenario, settings, seed, first_run, runs, chunk, progress)
+    else:
+        from . import distributed
+
+        # Every process holds the merged result: the whole job must fit each one.
+        distributed.together(lambda: budget.plan(
+            scenario.n, settings, runs, chunk, jax.local_device_count(), source="run_many"))
+        start, size = distributed.share(first_run, runs, me, procs)
+        if progress and me == 0:
+            print(f"process 0 of {procs}: runs {start:,}..{start + size - 1:,} of "
+                  f"{first_run:,}..{first_run + runs - 1:,}", file=sys.stderr, flush=True)
+        found = _search(scenario, settings, seed, start, size, chunk, progress and me == 0)
+        found = _gathered(found, runs)
+    t0 = time.perf_counter()
+    # The best run: the shortest feasible path if any run has one, else the fittest.
+    length, violations = found.length, found.violations
+    score = fitness_of(length, violations, scenario.delta)
+    pool = np.flatnonzero(violations == 0) if np.any(violations == 0) else np.arange(runs)
+    top = int(pool[np.argmax(score[pool])])
+    best_path = evaluate_path(scenario, found.perm[top], found.labels[top], settings.collision)
+    optimum = solve(scenario, settings.collision) if exact else None
+    return RunsResult(
+        scenario=scenario, settings=settings, seed=seed,
+        run_ids=np.arange(first_run, first_run + runs),
+        perm=found.perm, labels=found.labels, length=length, violations=violations,
+        generation=found.generation, history=found.history,
+        best=best_path, best_run=first_run + top, optimum=optimum,
+        compile_s=found.compile_s, search_s=found.search_s,
+        finish_s=found.finish_s + time.perf_counter() - t0,
+        evaluations=runs * settings.population * (settings.generations + 1),
+    )
+
+
+class _Found(NamedTuple):
+    """The searched runs (one row per run, in run order) with their float64 lengths."""
+
+    perm: np.ndarray  # (R, n) int32
+    labels: np.ndarray  # (R, n + 2) int32
+    generation: np.ndarray  # (R,) int64
+    length: np.ndarray  # (R,) float64 metres
+    violations: np.ndarray  # (R,) int64
+    history: dict[str, np.ndarray]  # name -> (G + 1, R)
+    compile_s: float
+    search_s: float
+    finish_s: float  # the float64 re-evaluation
+
+
+def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int, runs: int,
+            chunk: int | None, progress: bool) -> _Found:
+    """Search runs ``first_run .. first_run + runs - 1`` on this process's devices and
+    re-evaluate their best chromosomes in float64 (``runs`` may be 0: an empty share)."""
     dtype = np.float64 if settings.precision == "float64" else np.float32
+    gens, n = settings.generations, scenario.n
+    if runs == 0:
+        return _Found(np.zeros((0, n), np.int32), np.zeros((0, n + 2), np.int32),
+                      np.zeros(0, np.int64), np.zeros(0, np.float64), np.zeros(0, np.int64),
+                      {name: np.zeros((gens + 1, 0), dt)
+                       for name, dt in _record_dtypes(dtype).items()}, 0.0, 0.0, 0.0)
+    cut = budget.plan(n, settings, runs, chunk, jax.local_device_count(), source="run_many")
+    size = cut.chunk
     sharding = _sharding()
     ks_all = np.arange(first_run, first_run + cut.batches * size, dtype=np.int32)
     if progress:
@@ -164,25 +232,29 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
         if bar is not None:
             bar.close()
     best = jax.tree.map(lambda *xs: np.concatenate(xs), *bests)
-
     t0 = time.perf_counter()
     d = decode64(scenario, best.perm, best.labels, settings.collision)
-    length, violations = d.length.astype(np.float64), d.violations.astype(np.int64)
-    # The best run: the shortest feasible path if any run has one, else the fittest.
-    score = fitness_of(length, violations, scenario.delta)
-    pool = np.flatnonzero(violations == 0) if np.any(violations == 0) else np.arange(runs)
-    top = int(pool[np.argmax(score[pool])])
-    best_path = evaluate_path(scenario, best.perm[top], best.labels[top], settings.collision)
-    optimum = solve(scenario, settings.collision) if exact else None
-    return RunsResult(
-        scenario=scenario, settings=settings, seed=seed,
-        run_ids=np.arange(first_run, first_run + runs),
-        perm=best.perm, labels=best.labels, length=length, violations=violations,
-        generation=best.generation.astype(np.int64), history=hist,
-        best=best_path, best_run=first_run + top, optimum=optimum,
-        compile_s=compile_s, search_s=search_s, finish_s=time.perf_counter() - t0,
-        evaluations=runs * settings.population * (settings.generations + 1),
-    )
+    return _Found(np.asarray(best.perm, np.int32), np.asarray(best.labels, np.int32),
+                  best.generation.astype(np.int64), d.length.astype(np.float64),
+                  d.violations.astype(np.int64), hist, compile_s, search_s,
+                  time.perf_counter() - t0)
+
+
+def _gathered(found: _Found, runs: int) -> _Found:
+    """Every process's share of the runs, in run order, on every process (JAX
+    collectives); the timings are the slowest process's."""
+    from . import distributed
+
+    t0 = time.perf_counter()
+    rows = {name: getattr(found, name)
+            for name in ("perm", "labels", "generation", "length", "violations")}
+    rows.update({"history." + name: h.T for name, h in found.history.items()})
+    every = distributed.gather_runs(rows, runs)
+    times = distributed.allgather(np.array([found.compile_s, found.search_s], np.float64))
+    compile_s, search_s = (float(t) for t in times.max(axis=0))
+    history = {name: np.ascontiguousarray(every.pop("history." + name).T) for name in found.history}
+    return _Found(**every, history=history, compile_s=compile_s, search_s=search_s,
+                  finish_s=found.finish_s + time.perf_counter() - t0)
 
 
 def _put(ks: np.ndarray, sharding: Any) -> Any:
