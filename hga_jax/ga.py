@@ -23,6 +23,7 @@ from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from . import label_ops, perm_ops, rng, selection
 from .fitness import evaluate
@@ -117,47 +118,41 @@ def _record(pop: Population, best: Best) -> Record:
     return Record(jnp.max(pop.fitness), mean, best.fitness, best.length, best.violations)
 
 
-def _fresh(key, n: int, settings: GASettings):
-    """Generation 0's chromosomes: random permutations and labels."""
-    kp, kl = jax.random.split(key)
-    return (perm_ops.random_permutation(kp, n, (settings.population,)),
-            label_ops.random_labels(kl, n + 2, (settings.population,)))
-
-
 def _unset(pop: Population) -> Best:
     """A best-so-far that any evaluated individual beats (before generation 0)."""
     return Best(pop.perm[0], pop.labels[0], jnp.asarray(-jnp.inf, pop.fitness.dtype),
                 pop.length[0], pop.violations[0], jnp.asarray(0, jnp.int32))
 
 
-@_fixed_stream
-def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
-    """Random initial population (generation 0), evaluated."""
-    pop = _evaluated(sa, *_fresh(key, sa.centres.shape[0], settings), settings)
-    return GAState(pop, _update_best(_unset(pop), pop, 0, settings))
+# --- One draw of random words per generation ----------------------------------------
+#
+# Generation g of a run draws ``bits(key_g, (draw_rows(n, settings), P))`` once (P the
+# population, innermost) and every part of the generation reads its own rows:
+# generation 0 the words of its permutations (n rows) and labels (n + 2 rows); a later
+# generation its selection's words (1 row, or ``tournament_size``), then a do-word and
+# two key words per pair (crossovers) or individual (mutation), and one word per label
+# gene. Pair rows use their first P // 2 columns. Operators take keys (their
+# signature), made from two words each.
+
+def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
+    """``name -> (first row, rows)`` of a later generation's draw."""
+    parts = (("select", selection.words_per_pick(settings.selection, settings.tournament_size)),
+             ("cross_upper", 3), ("mutate_upper", 3), ("cross_lower", 3), ("redraw", n + 2))
+    out, row = {}, 0
+    for name, rows in parts:
+        out[name], row = (row, rows), row + rows
+    return out
 
 
-class Draw(NamedTuple):
-    """One generation's random words, drawn at once: ``(rows, P)`` uint32 (population
-    innermost), cut into the rows each part of the generation uses."""
-
-    words: Any
-
-    def rows(self, start: int, count: int):
-        return self.words[start:start + count]
+def draw_rows(n: int, settings: GASettings) -> int:
+    """Rows of words (of P each) every generation draws: enough for generation 0
+    (``2n + 2``) and for the later ones."""
+    last = max(start + rows for start, rows in _layout(n, settings).values())
+    return max(2 * n + 2, last)
 
 
-# Rows of a generation's draw (P = population; pair rows use their first P // 2 columns).
-_SELECT = 0  # 2 rows: the selection's key
-_CROSS_UPPER = 2  # 3 rows: do-word and key of each pair (permutation crossover)
-_MUTATE_UPPER = 5  # 3 rows: do-word and key of each individual (permutation mutation)
-_CROSS_LOWER = 8  # 3 rows: do-word and key of each pair (label crossover)
-_REDRAW = 11  # L = n + 2 rows: one word per label gene
-
-
-def draw_rows(n: int) -> int:
-    """Words per individual a generation draws (:data:`_REDRAW` + ``n + 2``)."""
-    return _REDRAW + n + 2
+def _draw(key, n: int, settings: GASettings):
+    return jax.random.bits(key, (draw_rows(n, settings), settings.population), dtype=jnp.uint32)
 
 
 def unit(words):
@@ -169,6 +164,12 @@ def unit(words):
 def _keys(rows):
     """Keys (of :mod:`hga_jax.rng`) from two rows of words: ``(count,)`` keys."""
     return jax.random.wrap_key_data(jnp.stack([rows[0], rows[1]], axis=-1), impl=rng.IMPL)
+
+
+def _fresh(words, n: int):
+    """Generation 0's chromosomes from its words: random permutations and labels."""
+    return (perm_ops.permutation_from_words(words[:n].T),
+            label_ops.labels_from_words(words[n:2 * n + 2].T))
 
 
 def _pairwise(rows, op, prob, a, b):
@@ -188,32 +189,29 @@ def _crossover(rows, op, prob, x):
     return jnp.concatenate([paired, x[2 * half:]])
 
 
-def _vary(key, old: Population, settings: GASettings):
-    """Select parents from ``old`` and vary both modules: the children's chromosomes.
+def _vary(words, old: Population, settings: GASettings):
+    """Select parents from ``old`` and vary both modules: the children's chromosomes,
+    from the generation's words (see the layout above)."""
+    n = old.perm.shape[1]
+    at = _layout(n, settings)
 
-    All random words come from one draw, ``bits(key, (draw_rows(n), P))``: the
-    selection's key, each pair's and individual's do-word and operator key, one word
-    per label gene (:class:`Draw`). Operators still take keys (their signature), made
-    from two words each.
-    """
-    p, n = old.perm.shape[0], old.perm.shape[1]
-    d = Draw(jax.random.bits(key, (draw_rows(n), p), dtype=jnp.uint32))
-    pick = selection.SELECTIONS[settings.selection]
-    idx = pick(_keys(d.rows(_SELECT, 2)[:, :1])[0], old.fitness, settings.population,
-               settings.tournament_size)
+    def rows(name):
+        start, count = at[name]
+        return words[start:start + count]
+
+    pick = selection.FROM_WORDS[settings.selection]
+    idx = pick(rows("select").T, old.fitness)
     perm, labels = old.perm[idx], old.labels[idx]
-
     if n >= 2:
-        perm = _crossover(d.rows(_CROSS_UPPER, 3), perm_ops.CROSSOVERS[settings.perm_crossover],
+        perm = _crossover(rows("cross_upper"), perm_ops.CROSSOVERS[settings.perm_crossover],
                           settings.pc_upper, perm)
-        rows = d.rows(_MUTATE_UPPER, 3)
-        mutated = jax.vmap(perm_ops.MUTATIONS[settings.perm_mutation])(_keys(rows[1:]), perm)
-        do = (unit(rows[0]) < settings.pm_upper)[:, None]
-        perm = jnp.where(do, mutated, perm)
-    labels = _crossover(d.rows(_CROSS_LOWER, 3), label_ops.CROSSOVERS[settings.label_crossover],
+        m = rows("mutate_upper")
+        mutated = jax.vmap(perm_ops.MUTATIONS[settings.perm_mutation])(_keys(m[1:]), perm)
+        perm = jnp.where((unit(m[0]) < settings.pm_upper)[:, None], mutated, perm)
+    labels = _crossover(rows("cross_lower"), label_ops.CROSSOVERS[settings.label_crossover],
                         settings.pc_lower, labels)
-    genes = d.rows(_REDRAW, n + 2).T  # (P, L)
-    return perm, label_ops.redraw_apply(labels, *label_ops.redraw_mask(genes, settings.pm_lower))
+    mask, choice = label_ops.redraw_mask(rows("redraw").T, settings.pm_lower)
+    return perm, label_ops.redraw_apply(labels, mask, choice)
 
 
 def _elitist(pop: Population, old: Population, settings: GASettings) -> Population:
@@ -227,20 +225,53 @@ def _elitist(pop: Population, old: Population, settings: GASettings) -> Populati
 
 
 @_fixed_stream
+def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
+    """Random initial population (generation 0) from its key, evaluated."""
+    n = sa.centres.shape[0]
+    pop = _evaluated(sa, *_fresh(_draw(key, n, settings), n), settings)
+    return GAState(pop, _update_best(_unset(pop), pop, 0, settings))
+
+
+@_fixed_stream
 def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
-    """One generation after the first: select, vary both modules (:func:`_vary`),
+    """One generation after the first, from its key: select, vary both modules,
     evaluate, keep elites, track the best."""
-    pop = _evaluated(sa, *_vary(key, state.pop, settings), settings)
+    words = _draw(key, sa.centres.shape[0], settings)
+    pop = _evaluated(sa, *_vary(words, state.pop, settings), settings)
     pop = _elitist(pop, state.pop, settings)
     best = _update_best(state.best, pop, generation, settings)
     return GAState(pop, best), _record(pop, best)
 
 
 @_fixed_stream
+def generation_keys(key, settings: GASettings):
+    """The keys of generations 0..G of the run with key ``key``: ``(G + 1,)``.
+
+    ``k0, kg = split(key)``; generation 0 uses ``k0``, generation g >= 1 uses
+    ``split(kg, G)[g - 1]`` (:func:`host_generation_keys` makes the same on the host).
+    """
+    k0, kg = jax.random.split(key)
+    later = jax.random.split(kg, settings.generations)
+    return jnp.concatenate([k0[None], later])
+
+
+def host_generation_keys(seed: int, ks, settings: GASettings):
+    """:func:`generation_keys` of runs ``ks`` of ``seed``, made on the host (numpy):
+    keys of :mod:`hga_jax.rng`, shaped ``(len(ks), G + 1)``. A compiled block of
+    generations takes them as input instead of hashing them out itself."""
+    ks = np.asarray(ks, np.int64)
+    run = rng.host_fold_in(np.broadcast_to(rng.host_key(seed), ks.shape + (2,)), ks)
+    k0kg = rng.host_split(run, 2)
+    later = rng.host_split(k0kg[..., 1, :], settings.generations)
+    data = np.concatenate([k0kg[..., :1, :], later], axis=-2)
+    return jax.random.wrap_key_data(data, impl=rng.IMPL)
+
+
+@_fixed_stream
 def run(key, sa: ScenarioArrays, settings: GASettings):
     """One whole run: ``(final GAState, Record of arrays shaped (G + 1,))``."""
-    k0, kg = jax.random.split(key)
-    state = init(k0, sa, settings)
+    keys = generation_keys(key, settings)
+    state = init(keys[0], sa, settings)
     first = _record(state.pop, state.best)
 
     def body(st, xs):
@@ -248,7 +279,7 @@ def run(key, sa: ScenarioArrays, settings: GASettings):
         return step(k, st, sa, settings, gen)
 
     gens = jnp.arange(1, settings.generations + 1, dtype=jnp.int32)
-    state, recs = jax.lax.scan(body, state, (jax.random.split(kg, settings.generations), gens))
+    state, recs = jax.lax.scan(body, state, (keys[1:], gens))
     history = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), first, recs)
     return state, history
 
@@ -263,13 +294,13 @@ def blank(sa: ScenarioArrays, settings: GASettings) -> GAState:
     return GAState(pop, _unset(pop))
 
 
-def _generation(k0, keys, state: GAState, g, sa: ScenarioArrays, settings: GASettings):
-    """Generation ``g`` (traced) of a run: 0 draws the initial population from ``k0``,
-    later ones vary ``state`` with ``keys[g - 1]``; one evaluation serves both."""
-    n, total = sa.centres.shape[0], settings.generations
-    perm, labels = jax.lax.cond(
-        g == 0, lambda _: _fresh(k0, n, settings),
-        lambda _: _vary(keys[jnp.clip(g - 1, 0, max(total - 1, 0))], state.pop, settings), None)
+def _generation(key, state: GAState, g, sa: ScenarioArrays, settings: GASettings):
+    """Generation ``g`` (traced) of a run from its key: 0 draws the initial population,
+    later ones vary ``state``; one draw and one evaluation serve both."""
+    n = sa.centres.shape[0]
+    words = _draw(key, n, settings)
+    perm, labels = jax.lax.cond(g == 0, lambda w: _fresh(w, n),
+                                lambda w: _vary(w, state.pop, settings), words)
     pop = _evaluated(sa, perm, labels, settings)
     if settings.elites:
         kept = _elitist(pop, state.pop, settings)
@@ -280,10 +311,11 @@ def _generation(k0, keys, state: GAState, g, sa: ScenarioArrays, settings: GASet
 
 
 @_fixed_stream
-def generations(seed, k, state: GAState, first, sa: ScenarioArrays, settings: GASettings,
+def generations(keys, state: GAState, first, sa: ScenarioArrays, settings: GASettings,
                 steps: int):
-    """Generations ``first .. first + steps - 1`` of run ``k`` of ``seed``, from ``state``
-    (:func:`blank` when ``first`` is 0): ``(GAState, Record of (steps,))``.
+    """Generations ``first .. first + steps - 1`` of the run whose generation keys are
+    ``keys`` (:func:`generation_keys`), from ``state`` (:func:`blank` when ``first`` is
+    0): ``(GAState, Record of (steps,))``.
 
     The very generations :func:`run` computes, so a run taken in blocks is
     bit-identical to the whole scan. ``first`` (>= 0) may be traced: one compiled
@@ -292,15 +324,14 @@ def generations(seed, k, state: GAState, first, sa: ScenarioArrays, settings: GA
     drops them); ``steps`` is static.
     """
     total = settings.generations
-    k0, kg = jax.random.split(run_key(seed, k))
-    keys = jax.random.split(kg, max(total, 1))
     ragged = (total + 1) % steps != 0
 
     def body(st, i):
         g = first + i
+        key = keys[jnp.minimum(g, total)]
         if not ragged:
-            return _generation(k0, keys, st, g, sa, settings)
-        return jax.lax.cond(g <= total, lambda s: _generation(k0, keys, s, g, sa, settings),
+            return _generation(key, st, g, sa, settings)
+        return jax.lax.cond(g <= total, lambda s: _generation(key, s, g, sa, settings),
                             lambda s: (s, _zero_record(s)), st)
 
     return jax.lax.scan(body, state, jnp.arange(steps, dtype=jnp.int32))
@@ -322,12 +353,11 @@ def run_indices(ks):
     return ks.astype(jnp.int32)
 
 
-def generations_batch(seed, ks, state: GAState, first, sa: ScenarioArrays,
-                      settings: GASettings, steps: int):
-    """:func:`generations` for each run index in ``ks`` (a sequence or 1-D array) and
-    its state (leading run axis), vmapped."""
-    return jax.vmap(lambda k, st: generations(seed, k, st, first, sa, settings, steps))(
-        run_indices(ks), state)
+def generations_batch(keys, state: GAState, first, sa: ScenarioArrays, settings: GASettings,
+                      steps: int):
+    """:func:`generations` for a batch of runs: ``keys`` (R, G + 1) from
+    :func:`host_generation_keys` and their states (leading run axis), vmapped."""
+    return jax.vmap(lambda kk, st: generations(kk, st, first, sa, settings, steps))(keys, state)
 
 
 def blank_batch(runs: int, sa: ScenarioArrays, settings: GASettings) -> GAState:

@@ -22,7 +22,7 @@ import jax
 import jax.numpy as jnp
 from jax import Array
 
-from .perm_ops import cut_draw, register, uniform_int
+from .perm_ops import cut_draw, int_from_words, register
 
 LabelCrossover = Callable[[Array, Array, Array], tuple[Array, Array]]
 
@@ -39,7 +39,13 @@ def random_labels(key: Array, L: int, shape: tuple[int, ...] = ()) -> Array:
     One draw ``r`` uniform in ``0..5`` per position: ends take
     ``2 * (r % 2) - 1``, the others ``r % 3 - 1``; both are uniform.
     """
-    r = uniform_int(key, tuple(shape) + (L,), 0, 6)
+    return labels_from_words(jax.random.bits(key, tuple(shape) + (L,), dtype=jnp.uint32))
+
+
+def labels_from_words(words: Array) -> Array:
+    """:func:`random_labels` from given uint32 words (one per gene, last axis ``L``)."""
+    r = int_from_words(words, 0, 6)
+    L = words.shape[-1]
     return jnp.where(_is_end(L), 2 * (r % 2) - 1, r % 3 - 1)
 
 

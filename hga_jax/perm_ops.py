@@ -96,7 +96,12 @@ def uniform_int(key: Array, shape: tuple[int, ...], low: int | Array, high: int 
     One 32-bit random word per integer (``jax.random.randint`` spends two):
     its top 24 bits scale the range, so the bias is below ``(high - low) / 2**24``.
     """
-    u = (jax.random.bits(key, shape, dtype=jnp.uint32) >> 8).astype(jnp.float32)
+    return int_from_words(jax.random.bits(key, shape, dtype=jnp.uint32), low, high)
+
+
+def int_from_words(words: Array, low: int | Array, high: int | Array) -> Array:
+    """:func:`uniform_int` from given uint32 words (one integer per word)."""
+    u = (words >> 8).astype(jnp.float32)
     span = jnp.asarray(high - low, jnp.float32)
     k = jnp.floor(u * jnp.float32(2.0**-24) * span).astype(jnp.int32)
     return low + jnp.minimum(k, (high - low) - 1)
@@ -109,7 +114,11 @@ def random_permutation(key: Array, n: int, shape: tuple[int, ...] = ()) -> Array
     ``n**2 / 2**33`` in probability, keeps the lower index first). A whole
     population is one draw and one sort: cheap to compile and run.
     """
-    words = jax.random.bits(key, tuple(shape) + (n,), dtype=jnp.uint32)
+    return permutation_from_words(jax.random.bits(key, tuple(shape) + (n,), dtype=jnp.uint32))
+
+
+def permutation_from_words(words: Array) -> Array:
+    """:func:`random_permutation` from given uint32 words (``n`` per permutation, last axis)."""
     return jnp.argsort(words, axis=-1, stable=True).astype(jnp.int32)
 
 

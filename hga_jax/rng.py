@@ -103,3 +103,30 @@ def key(seed):
 def from_threefry(k):
     """The same key (a typed threefry2x32 key) as a key of this implementation."""
     return jax.random.wrap_key_data(jax.random.key_data(k), impl=IMPL)
+
+
+# --- The same keys on the host (numpy), for programs that take their keys as input ---
+
+def host_key(seed: int) -> np.ndarray:
+    """``key_data(key(seed))`` for ``0 <= seed < 2**32``: ``(2,)`` uint32 ``[0, seed]``."""
+    return np.array([0, seed], np.uint32)
+
+
+def _host_hash(kd: np.ndarray, x1: np.ndarray, x2: np.ndarray):
+    with np.errstate(over="ignore"):  # uint32 arithmetic wraps, as intended
+        return threefry2x32(kd[..., 0:1], kd[..., 1:2], x1, x2)
+
+
+def host_fold_in(kd: np.ndarray, data: np.ndarray) -> np.ndarray:
+    """``key_data(fold_in(k, d))`` for key data ``kd`` (..., 2) and uint32 ``data`` (...)."""
+    d = np.asarray(data, np.uint32)[..., None]
+    y1, y2 = _host_hash(np.asarray(kd, np.uint32), np.zeros_like(d), d)
+    return np.concatenate([y1, y2], axis=-1)
+
+
+def host_split(kd: np.ndarray, num: int) -> np.ndarray:
+    """``key_data(split(k, num))`` for key data ``kd`` (..., 2): (..., num, 2)."""
+    i = np.arange(num, dtype=np.uint32)
+    y1, y2 = _host_hash(np.asarray(kd, np.uint32), i, i + np.uint32(num))
+    flat = np.concatenate([y1, y2], axis=-1)  # the 2 * num words in JAX's order
+    return flat.reshape(flat.shape[:-1] + (num, 2))

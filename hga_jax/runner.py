@@ -25,7 +25,7 @@ from . import budget
 from .errors import ConfigError, Interrupted
 from .exact import solve
 from .fitness import fitness_of
-from .ga import Record, blank_batch, generations_batch
+from .ga import Record, blank_batch, generations_batch, host_generation_keys
 from .report import count
 from .path import decode64, evaluate_path
 from .results import RunsResult
@@ -204,20 +204,21 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
             t0 = time.perf_counter()
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
-            ks0 = _put(ks_all[:size], sharding)
+            keys0 = _put(host_generation_keys(seed, ks_all[:size], settings), sharding)
             blank = _put_tree(blank_batch(size, sa, settings), sharding)
-            block = _compiled(("block", seed, settings) + shapes, lambda: jax.jit(
-                functools.partial(generations_batch, seed, settings=settings, steps=cut.block)
-            ).lower(ks0, blank, np.int32(0), sa).compile())
+            block = _compiled(("block", settings) + shapes, lambda: jax.jit(
+                functools.partial(generations_batch, settings=settings, steps=cut.block)
+            ).lower(keys0, blank, np.int32(0), sa).compile())
             compile_s, search_s = time.perf_counter() - t0, 0.0
             compiling = False
             for b, lo in enumerate(range(0, len(ks_all), size)):
                 done = 0
                 t0 = time.perf_counter()
                 real = min(size, runs - lo)
-                ks, state = _put(ks_all[lo:lo + size], sharding), blank
+                keys = _put(host_generation_keys(seed, ks_all[lo:lo + size], settings), sharding)
+                state = blank
                 for first in range(0, gens + 1, cut.block):
-                    state, recs = block(ks, state, np.int32(first), sa)
+                    state, recs = block(keys, state, np.int32(first), sa)
                     steps = min(cut.block, gens + 1 - first)
                     _store(hist, recs, first, steps, lo, real)
                     done += steps

@@ -20,7 +20,7 @@ from jax import Array
 
 from .reductions import prefix_sum
 
-from .perm_ops import uniform_int
+from .perm_ops import int_from_words
 
 Selection = Callable[[Array, Array, int, int], Array]
 
@@ -32,9 +32,16 @@ def roulette(key: Array, fitness: Array, count: int, size: int = 2) -> Array:
     ``fitness`` must be positive (zeros are never picked); ``size`` is
     ignored (it exists for the common signature).
     """
-    del size
+    return roulette_from_words(jax.random.bits(key, (count, 1), dtype=jnp.uint32), fitness)
+
+
+def roulette_from_words(words: Array, fitness: Array) -> Array:
+    """:func:`roulette` with one given uint32 word per pick (``words``: (count, 1+)).
+
+    The word's top 24 bits place the pick on the wheel (a grid of 2**-24 of the
+    total fitness)."""
     cdf = prefix_sum(fitness)  # shape-independent rounding: run k is the same in any batch
-    u = jax.random.uniform(key, (count,), dtype=cdf.dtype) * cdf[-1]
+    u = (words[:, 0] >> 8).astype(cdf.dtype) * (2.0**-24) * cdf[-1]
     # The first i with cdf[i] > u; the clip guards float rounding at the top.
     idx = jnp.searchsorted(cdf, u, side="right", method="compare_all")
     return jnp.minimum(idx, fitness.shape[-1] - 1).astype(jnp.int32)
@@ -45,11 +52,23 @@ def tournament(key: Array, fitness: Array, count: int, size: int = 2) -> Array:
     individuals uniformly with replacement and keeps the fittest; among equal
     fitness, the lower population index wins.
     """
+    return tournament_from_words(jax.random.bits(key, (count, size), dtype=jnp.uint32), fitness)
+
+
+def tournament_from_words(words: Array, fitness: Array) -> Array:
+    """:func:`tournament` with given uint32 words, one per entrant (``(count, size)``)."""
     P = fitness.shape[-1]
-    entrants = uniform_int(key, (count, size), 0, P)
+    entrants = int_from_words(words, 0, P)
     f = fitness[entrants]
     best = jnp.max(f, axis=-1, keepdims=True)
     return jnp.min(jnp.where(f == best, entrants, P), axis=-1).astype(jnp.int32)
 
 
+def words_per_pick(name: str, size: int) -> int:
+    """Random words one pick of selection ``name`` uses (roulette 1, tournament ``size``)."""
+    return size if name == "tournament" else 1
+
+
 SELECTIONS: dict[str, Selection] = {"roulette": roulette, "tournament": tournament}
+FROM_WORDS: dict[str, Callable[[Array, Array], Array]] = {
+    "roulette": roulette_from_words, "tournament": tournament_from_words}

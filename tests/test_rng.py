@@ -59,3 +59,19 @@ def test_the_hash_matches_the_published_test_vector():
     with np.errstate(over="ignore"):  # uint32 arithmetic wraps, as intended
         y = rng.threefry2x32(u(0x13198A2E), u(0x03707344), u(0x243F6A88), u(0x85A308D3))
     assert (int(y[0]), int(y[1])) == (0xC4923A9C, 0x483DF7A0)
+
+
+@pytest.mark.parametrize("seed", [0, 9, 2**32 - 1])
+def test_host_keys_are_the_device_keys(seed):
+    """The runner makes each run's generation keys on the host (numpy); they must be
+    the keys ga.run derives on the device from the run's key."""
+    from hga_jax.settings import GASettings
+
+    s = GASettings(generations=7)
+    ks = np.array([0, 1, 5, 2**31 - 1])
+    host = ga.host_generation_keys(seed, ks, s)
+    device = jax.vmap(lambda k: ga.generation_keys(ga.run_key(seed, k), s))(ks)
+    assert host.shape == (4, 8)
+    assert np.array_equal(_data(host), _data(device))
+    with jax.threefry_partitionable(False):
+        assert np.array_equal(rng.host_key(seed), _data(jax.random.key(seed)))
