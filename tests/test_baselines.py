@@ -127,6 +127,8 @@ def test_deap_runs_are_seeded_and_measured_against_the_optimum(deap_hga, tmp_pat
             assert float(r["gap"]) == pytest.approx(float(r["length"]) / opt - 1)
             assert float(r["length"]) >= opt * (1 - 1e-9)
         assert 0 <= int(r["generation"]) <= 6
+        # only changed individuals are evaluated again: at least the first population
+        assert 50 <= int(r["evaluations"]) <= 50 * 7
     again = tmp_path / "again.csv"
     assert deap_hga.main(args[:-1] + [str(again)]) == 0
     assert [r["length"] for r in csv.DictReader(again.open())] == [r["length"] for r in rows]
