@@ -288,6 +288,9 @@ def main(argv=None) -> int:
             for precision in args.precisions:
                 cases.append(bench_case(sc, args.size_runs, precision, args.repeats))
                 print_cases(cases[-1:])
+    if any(c["compile_s"] < 0.1 for c in cases):
+        print("(compile s near 0: an earlier case compiled the same batch shape; large jobs "
+              "run in batches of one shape)")
     report["cases"] = cases
     report["memory"] = []
     if "memory" in args.only:
