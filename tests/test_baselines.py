@@ -1,14 +1,20 @@
-"""Optional baselines: the DEAP version of the paper's GA and OMPL's Dubins planners
-(each skipped when its package is missing)."""
+"""Baselines: the pure-Python decoder of the DEAP baseline (always tested), the DEAP
+version of the paper's GA and OMPL's Dubins planners (each skipped when its package
+is missing)."""
 import csv
+import glob
 import importlib.util
 import os
 import random
 
+import numpy as np
 import pytest
+from _families import FAMILIES, chromosomes, scenes
 
-from hga_jax.config import load_scenario
+from hga_jax.config import load_scenario, scenario_from_dict
 from hga_jax.exact import solve
+from hga_jax.path import decode64, from_chromosome
+from hga_jax.study.scenes import generate
 
 
 def _load(name):
@@ -17,6 +23,71 @@ def _load(name):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def _agreement(sc, rng, count):
+    """Decode ``count`` random chromosomes per collision mode and share of zero labels
+    (plus the exact optimum's, when expressible) with both decoders: returns the number
+    decoded, the largest length difference (m), the mismatches, feasible and infeasible
+    counts."""
+    python_decoder = _load("python_decoder")
+    checked, worst, wrong, feasible = 0, 0.0, [], 0
+    for collision in ("full", "paper"):
+        py = python_decoder.PythonDecoder.from_scenario(sc, collision)
+        batches = [chromosomes(rng, sc.n, count, p_zero) for p_zero in (0.2, 0.5, 0.8)]
+        opt = solve(sc, collision)
+        if opt.feasible and opt.expressible:
+            perm, labels = from_chromosome(opt.upper, opt.lower, sc.n)
+            batches.append((perm[None], labels[None]))
+        for perm, labels in batches:
+            d = decode64(sc, perm, labels, collision)
+            for p, lab, length, violations in zip(perm, labels, d.length, d.violations):
+                ours = py.decode(p.tolist(), lab.tolist())
+                checked += 1
+                feasible += ours[1] == 0
+                worst = max(worst, abs(ours[0] - float(length)))
+                if abs(ours[0] - float(length)) > 1e-9 or ours[1] != int(violations):
+                    wrong.append((sc.name, collision, p.tolist(), lab.tolist(), ours,
+                                  (float(length), int(violations))))
+    return checked, worst, wrong, feasible
+
+
+def test_python_decoder_gives_hga_jax_lengths_and_violations():
+    """The DEAP baseline's own decoder (plain floats and math) against hga-jax's float64
+    decoder: bundled scenarios, generated RoboCup-like scenes and the degenerate
+    families of the decoder tests (touching circles, goal on a start circle, ...)."""
+    rng = np.random.default_rng(9)
+    cases = [(load_scenario(p), 100) for p in sorted(glob.glob("configs/scenarios/*.toml"))]
+    cases += [(scenario_from_dict(generate(kind, n, 21, 0, f"{kind}{n}", 1.4)), 40)
+              for kind, n in (("clutter", 25), ("obstructed", 9))]
+    cases += [(scenario_from_dict(d), 25) for family in FAMILIES for d in scenes(family, 5, 5)]
+    total, worst, wrong, feasible = 0, 0.0, [], 0
+    for sc, count in cases:
+        c, w, bad, f = _agreement(sc, rng, count)
+        total, worst, feasible = total + c, max(worst, w), feasible + f
+        wrong += bad
+    assert wrong == [], wrong[:5]
+    assert total > 5000 and worst < 1e-9
+    assert 0.05 * total < feasible < 0.95 * total  # both kinds of path are compared
+
+
+def test_python_decoder_fitness_is_the_papers():
+    python_decoder = _load("python_decoder")
+    sc = load_scenario("configs/scenarios/robocup_paper.toml")
+    py = python_decoder.PythonDecoder.from_scenario(sc)
+    assert py.delta == pytest.approx(sc.delta, rel=1e-15)
+    opt = solve(sc)
+    perm, labels = from_chromosome(opt.upper, opt.lower, sc.n)
+    fit, length, violations = py.fitness(perm.tolist(), labels.tolist())
+    assert violations == 0 and length == pytest.approx(2.24543, abs=1e-5)
+    assert fit == pytest.approx(10000 / (opt.length + 1), rel=1e-12)
+    straight = [0] * (sc.n + 2)  # start CCW, no obstacle, goal CCW
+    straight[0] = straight[-1] = -1
+    fit, length, violations = py.fitness(list(range(sc.n)), straight)
+    assert violations > 0
+    assert fit == pytest.approx(10000 / (length + violations * 2 * np.pi * 0.18 + 1), rel=1e-12)
+    with pytest.raises(ValueError):
+        python_decoder.PythonDecoder.from_scenario(sc, "nearly")
 
 
 @pytest.fixture(scope="module")
@@ -56,6 +127,8 @@ def test_deap_runs_are_seeded_and_measured_against_the_optimum(deap_hga, tmp_pat
             assert float(r["gap"]) == pytest.approx(float(r["length"]) / opt - 1)
             assert float(r["length"]) >= opt * (1 - 1e-9)
         assert 0 <= int(r["generation"]) <= 6
+        # only changed individuals are evaluated again: at least the first population
+        assert 50 <= int(r["evaluations"]) <= 50 * 7
     again = tmp_path / "again.csv"
     assert deap_hga.main(args[:-1] + [str(again)]) == 0
     assert [r["length"] for r in csv.DictReader(again.open())] == [r["length"] for r in rows]

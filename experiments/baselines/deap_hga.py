@@ -2,13 +2,21 @@
 
 Same model and settings as hga-jax's paper configuration: a chromosome is a
 permutation of the obstacles plus one turning label per position; roulette
-selection; per pair of parents, cycle crossover (written here: DEAP has none) with
-probability pc_upper and two-point crossover of the labels with probability
-pc_lower; per individual, inversion of a random segment with probability pm_upper;
-per label, a redraw to another allowed value with probability pm_lower; no
-elitism. Fitness is hga-jax's ``10000 / (Dist_m + 1)``, from its float64 decoder,
-one call per generation. Python's ``random`` (seeded per run) drives the search,
-so runs differ from hga-jax's run for run; the statistics compare.
+selection; per pair of parents, cycle crossover (written here: DEAP has none, and
+its PMX is not the textbook one) with probability pc_upper and two-point crossover
+of the labels with probability pc_lower; per individual, inversion of a random
+segment with probability pm_upper; per label, a redraw to another allowed value
+with probability pm_lower; no elitism.
+
+The fitness ``10000 / (Dist_m + 1)`` comes from a pure-Python decoder of the model
+(``python_decoder.py``: plain floats and ``math``, one individual at a time, its
+tangents kept per pair of circles), written from docs/model.md independently of
+hga-jax's decoder; a test checks that both give the same length and violations.
+As in DEAP's own algorithms, only individuals that an operator changed are
+evaluated again (their fitness is deleted; the others keep theirs). hga-jax is
+used to load the scenario, for the settings and for the exact optimum the runs are
+measured against. Python's ``random`` (seeded per run) drives the search, so runs
+differ from hga-jax's run for run; the statistics compare.
 
 Usage: ``python3 experiments/baselines/deap_hga.py [SCENARIO] [--runs 200] [--seed 0]
 [--generations 50] [--out results/baselines/deap_hga.csv]`` (needs ``pip install deap``,
@@ -21,16 +29,17 @@ import csv
 import os
 import random
 import statistics
+import sys
 import time
 
-import numpy as np
 from deap import base, creator, tools
 
 from hga_jax.config import load_scenario
 from hga_jax.exact import solve
-from hga_jax.fitness import fitness_of
-from hga_jax.path import decode64
 from hga_jax.settings import GASettings
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from python_decoder import PythonDecoder  # noqa: E402  (beside this file)
 
 if not hasattr(creator, "HGAFitness"):
     creator.create("HGAFitness", base.Fitness, weights=(1.0,))
@@ -64,13 +73,24 @@ def redraw(labels: list[int], pm: float, rng: random.Random) -> list[int]:
     return out
 
 
-def run(sc, settings: GASettings, seed: int, k: int) -> dict:
-    """One run: returns the best length, violations and the generation it was reached."""
+def run(sc, settings: GASettings, seed: int, k: int, decoder: PythonDecoder | None = None) -> dict:
+    """One run: the best length, violations, the generation it was first reached and
+    the number of evaluations made. ``decoder``: the scenario's (kept between runs)."""
     rng = random.Random(seed * 1_000_003 + k)
     random.seed(seed * 1_000_003 + k)  # DEAP's selRoulette draws from the global generator
     n, s = sc.n, settings
+    decoder = decoder or PythonDecoder.from_scenario(sc, s.collision)
+    evaluations = 0
+
+    def evaluate(ind):
+        nonlocal evaluations
+        evaluations += 1
+        fit, ind.length, ind.violations = decoder.fitness(ind[0], ind[1])
+        return (fit,)
+
     tb = base.Toolbox()
     tb.register("select", tools.selRoulette)
+    tb.register("evaluate", evaluate)
 
     def new():
         perm = rng.sample(range(n), n)
@@ -78,37 +98,55 @@ def run(sc, settings: GASettings, seed: int, k: int) -> dict:
             rng.choice((-1, 1))]
         return creator.HGAIndividual([perm, labels])
 
-    def evaluate(pop):
-        d = decode64(sc, np.array([ind[0] for ind in pop]), np.array([ind[1] for ind in pop]),
-                     s.collision)
-        fit = fitness_of(d.length.astype(float), d.violations, sc.delta)
-        for ind, f, length, v in zip(pop, fit, d.length, d.violations):
-            ind.fitness.values = (float(f),)
-            ind.length, ind.violations = float(length), int(v)
+    def clone(ind):
+        c = creator.HGAIndividual([list(ind[0]), list(ind[1])])
+        c.fitness.values, c.length, c.violations = ind.fitness.values, ind.length, ind.violations
+        return c
+
+    def evaluate_invalid(pop):
+        for ind in pop:
+            if not ind.fitness.valid:
+                ind.fitness.values = tb.evaluate(ind)
 
     pop = [new() for _ in range(s.population)]
-    evaluate(pop)
+    evaluate_invalid(pop)
     best, best_gen = max(pop, key=lambda i: i.fitness.values[0]), 0
     for g in range(1, s.generations + 1):
-        parents = [creator.HGAIndividual([list(i[0]), list(i[1])]) for i in
-                   tb.select(pop, s.population)]
-        for a, b in zip(parents[::2], parents[1::2]):
+        offspring = [clone(i) for i in tb.select(pop, s.population)]
+        for a, b in zip(offspring[::2], offspring[1::2]):
             if rng.random() < s.pc_upper:
                 a[0], b[0] = cycle_crossover(a[0], b[0], rng)
+                del a.fitness.values, b.fitness.values
             if rng.random() < s.pc_lower:
                 lo, hi = sorted(rng.sample(range(n + 3), 2))
                 a[1][lo:hi], b[1][lo:hi] = b[1][lo:hi], a[1][lo:hi]
-        for ind in parents:
+                del a.fitness.values, b.fitness.values
+        for ind in offspring:
             if rng.random() < s.pm_upper:
                 ind[0] = inversion(ind[0], rng)
-            ind[1] = redraw(ind[1], s.pm_lower, rng)
-        pop = parents
-        evaluate(pop)
+                del ind.fitness.values
+            labels = redraw(ind[1], s.pm_lower, rng)
+            if labels != ind[1]:
+                ind[1] = labels
+                del ind.fitness.values
+        pop = offspring
+        evaluate_invalid(pop)
         top = max(pop, key=lambda i: i.fitness.values[0])
         if top.fitness.values[0] > best.fitness.values[0]:
             best, best_gen = top, g
     return {"run": k, "length": best.length, "violations": best.violations,
-            "generation": best_gen}
+            "generation": best_gen, "evaluations": evaluations}
+
+
+def time_runs(sc, settings: GASettings, seed: int, runs: int) -> list[float]:
+    """Wall seconds of each of ``runs`` runs (one decoder for the scenario, as in main)."""
+    decoder = PythonDecoder.from_scenario(sc, settings.collision)
+    times = []
+    for k in range(runs):
+        t0 = time.perf_counter()
+        run(sc, settings, seed, k, decoder)
+        times.append(time.perf_counter() - t0)
+    return times
 
 
 def main(argv=None) -> int:
@@ -122,11 +160,11 @@ def main(argv=None) -> int:
     sc = load_scenario(args.scenario)
     settings = GASettings(generations=args.generations)
     opt = solve(sc).length
-    run(sc, settings, args.seed, 0)  # compile the decoder once before timing
+    decoder = PythonDecoder.from_scenario(sc, settings.collision)
     rows, times = [], []
     for k in range(args.runs):
         t0 = time.perf_counter()
-        r = run(sc, settings, args.seed, k)
+        r = run(sc, settings, args.seed, k, decoder)
         times.append(time.perf_counter() - t0)
         feasible = r["violations"] == 0
         gap = r["length"] / opt - 1 if feasible else None
@@ -142,7 +180,9 @@ def main(argv=None) -> int:
     print(f"DEAP HGA on {sc.name}: {args.runs} runs of {args.generations} generations: "
           f"hit rate {hits / args.runs:.1%}, median gap {statistics.median(gaps):.2%}, "
           f"feasible {sum(r['feasible'] for r in rows)}/{args.runs}, "
-          f"{statistics.median(times) * 1000:.0f} ms per run (median); wrote {args.out}")
+          f"{statistics.median(times) * 1000:.0f} ms per run (median), "
+          f"{statistics.median(r['evaluations'] for r in rows):.0f} evaluations per run "
+          f"(median); wrote {args.out}")
     return 0
 
 

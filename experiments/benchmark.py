@@ -1,0 +1,326 @@
+"""Benchmark of hga-jax's GA, and of the same GA written with DEAP, in one process.
+
+What it measures (the paper's GA settings: population 50, 50 generations):
+
+- runs: ``robocup_paper.toml`` (n = 9) with R = 1, 100, 1,000 and 10,000 runs;
+- sizes: R = 1,000 runs of clutter scenes with n = 25, 50 and 100 obstacles (the
+  scene generator of the studies, scene 0 of the scaling study's family: seed 21,
+  1.4 obstacles per square metre, the density of the RoboCup scene);
+- each in float32 and float64 (``GASettings(precision=...)``): the compile time
+  (the first call of a batch shape; no on-disk compilation cache), the median
+  search time over repeats, evaluations/s ``R * population * (generations + 1) /
+  search`` and runs/s; the float64 re-evaluation after the search ("finish") is
+  reported apart;
+- memory: peak RSS (the process's high-water mark) of one ``run_many`` call of
+  10,000 and of 100,000 runs, each in a fresh process;
+  ``--million`` adds 1,000,000 runs done in chunks of 100,000 (progress on stderr);
+- DEAP: the same GA written with DEAP (``experiments/baselines/deap_hga.py``, its
+  fitness from a pure-Python decoder) on ``robocup_paper``, median wall time per
+  run, and the ratio to hga-jax's search time per run at R = 10,000 (float32).
+
+A fixed pure-Python loop (``calibration.py``) is timed beside every figure: the
+machine is shared and its speed varies; compare figures taken with similar
+calibration times.
+
+Usage (from the repository root)::
+
+    python3 experiments/benchmark.py [--quick] [--only runs sizes memory deap]
+        [--runs 1 100 1000 10000] [--sizes 25 50 100] [--precisions float32 float64]
+        [--repeats 3] [--deap-runs 20] [--million] [--out results/benchmark/benchmark.json]
+
+``--quick`` is a smoke run of every part (R = 1 and 100, n = 25 with 100 runs, one
+repeat, memory of 1,000 runs, 2 DEAP runs). The DEAP part needs ``deap`` (the
+``compare`` extra) and is skipped without it. Prints a table and writes the JSON.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import importlib.util
+import json
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from typing import Any
+
+import jax
+import numpy as np
+
+from calibration import calibration
+
+import hga_jax
+from hga_jax.config import load_scenario, scenario_from_dict
+from hga_jax.exact import solve
+from hga_jax.output import write_json
+from hga_jax.runner import run_many
+from hga_jax.settings import GASettings
+from hga_jax.study.scenes import generate
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PAPER_SCENE = os.path.join("configs", "scenarios", "robocup_paper.toml")
+SCENE_SEED, DENSITY = 21, 1.4  # configs/studies/scaling.toml's clutter family
+MILLION, MILLION_CHUNK = 1_000_000, 100_000
+MEMORY_LIMIT_MB = 4096
+
+jax.config.update("jax_enable_compilation_cache", False)  # compile times from scratch
+
+
+# -- scenes and machine ------------------------------------------------------------------
+
+def paper_scene():
+    return load_scenario(PAPER_SCENE)
+
+
+def clutter_scene(n: int):
+    """Scene 0 with ``n`` obstacles of the scaling study's clutter family."""
+    return scenario_from_dict(generate("clutter", n, SCENE_SEED, 0, f"clutter_n{n:03d}_000",
+                                       DENSITY))
+
+
+def machine() -> dict[str, Any]:
+    """What the figures were measured on."""
+    cpu = platform.processor() or ""
+    try:
+        with open("/proc/cpuinfo") as fh:
+            cpu = next((line.split(":", 1)[1].strip() for line in fh
+                        if line.startswith("model name")), cpu)
+    except OSError:
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "system": platform.platform(),
+            "python": platform.python_version(), "jax": jax.__version__,
+            "numpy": np.__version__, "hga_jax": hga_jax.__version__,
+            "devices": [str(d) for d in jax.devices()]}
+
+
+def peak_rss_mb() -> float:
+    """This process's peak resident memory so far (MB).
+
+    Linux's ``VmHWM`` (``/proc/self/status``): ``ru_maxrss`` would do, but on Linux a
+    child process inherits its parent's figure at the fork, so a fresh process
+    started by a large one would report the parent's peak. ``ru_maxrss`` (kB) where
+    there is no ``/proc``.
+    """
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+# -- hga-jax -----------------------------------------------------------------------------
+
+def bench_case(sc, runs: int, precision: str, repeats: int, seed: int = 0) -> dict[str, Any]:
+    """Compile (first call of this batch shape), then ``repeats`` timed searches."""
+    settings = GASettings(precision=precision)
+    cal = calibration()
+    first = run_many(sc, settings, seed=seed, runs=runs, exact=False)
+    search = [first.search_s]
+    for _ in range(1, repeats):
+        search.append(run_many(sc, settings, seed=seed, runs=runs, exact=False).search_s)
+    med = statistics.median(search)
+    evaluations = runs * settings.population * (settings.generations + 1)
+    return {"scenario": sc.name, "n": sc.n, "runs": runs, "precision": precision,
+            "compile_s": first.compile_s, "search_s": search, "search_median_s": med,
+            "finish_s": first.finish_s, "evaluations": evaluations,
+            "evaluations_per_s": evaluations / med, "runs_per_s": runs / med,
+            "per_run_s": med / runs, "calibration_s": cal}
+
+
+def memory_case(runs: int) -> dict[str, Any]:
+    """Peak RSS of ``runs`` runs of the paper's setting, measured in a fresh process."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(hga_jax.__file__)))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [root] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+    proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--child-runs", str(runs)],
+                          stdout=subprocess.PIPE, text=True, env=env)  # stderr: progress
+    if proc.returncode != 0:
+        raise RuntimeError(f"the memory case of {runs:,} runs failed (its messages are above)")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def child(runs: int) -> None:
+    """The fresh process of :func:`memory_case`: one ``run_many`` call, or chunks of
+    ``MILLION_CHUNK`` runs for more, and one JSON line on stdout."""
+    sc = paper_scene()
+    settings = GASettings()
+    before = peak_rss_mb()
+    cal = calibration()
+    t0 = time.perf_counter()
+    if runs <= MILLION_CHUNK:
+        res = run_many(sc, settings, seed=0, runs=runs, exact=False)
+        length, violations = res.length, res.violations
+        compile_s, search_s = res.compile_s, res.search_s
+    else:
+        length, violations = np.empty(runs), np.empty(runs, np.int64)
+        compile_s = search_s = 0.0
+        for lo in range(0, runs, MILLION_CHUNK):
+            size = min(MILLION_CHUNK, runs - lo)
+            res = run_many(sc, settings, seed=0, runs=size, first_run=lo, exact=False,
+                           progress=True)
+            length[lo:lo + size], violations[lo:lo + size] = res.length, res.violations
+            compile_s, search_s = compile_s + res.compile_s, search_s + res.search_s
+            del res
+            print(f"{lo + size:,} of {runs:,} runs done in {time.perf_counter() - t0:.0f} s, "
+                  f"peak RSS {peak_rss_mb():.0f} MB", file=sys.stderr, flush=True)
+    wall = time.perf_counter() - t0
+    opt = solve(sc).length
+    feasible = violations == 0
+    hits = int(np.sum(feasible & (length / opt - 1 < 1e-6)))
+    print(json.dumps({
+        "runs": runs, "peak_rss_mb": peak_rss_mb(), "rss_before_runs_mb": before,
+        "wall_s": wall, "compile_s": compile_s, "search_s": search_s,
+        "runs_per_s": runs / search_s, "hit_rate": hits / runs,
+        "feasible_rate": float(np.mean(feasible)), "calibration_s": cal}))
+
+
+# -- DEAP ----------------------------------------------------------------------------------
+
+def deap_case(runs: int, seed: int = 0) -> dict[str, Any] | None:
+    """Median wall time per run of the DEAP version (None without deap)."""
+    if importlib.util.find_spec("deap") is None:
+        return None
+    spec = importlib.util.spec_from_file_location(
+        "deap_hga", os.path.join(HERE, "baselines", "deap_hga.py"))
+    deap_hga = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(deap_hga)
+    cal = calibration()
+    times = deap_hga.time_runs(paper_scene(), GASettings(), seed, runs)
+    return {"scenario": "robocup_paper", "runs": runs, "per_run_s": times,
+            "median_per_run_s": statistics.median(times), "calibration_s": cal}
+
+
+def ratio(cases: list[dict[str, Any]], deap: dict[str, Any] | None) -> dict[str, Any] | None:
+    """DEAP's time per run over hga-jax's (float32 at n = 9, R = 10,000, else the largest R)."""
+    mine = [c for c in cases if c["scenario"] == "robocup_paper" and c["precision"] == "float32"]
+    if deap is None or not mine:
+        return None
+    ref = max(mine, key=lambda c: (c["runs"] == 10_000, c["runs"]))
+    return {"hga_jax_runs": ref["runs"], "hga_jax_per_run_s": ref["per_run_s"],
+            "deap_per_run_s": deap["median_per_run_s"],
+            "deap_over_hga_jax": deap["median_per_run_s"] / ref["per_run_s"]}
+
+
+# -- report --------------------------------------------------------------------------------
+
+def print_header() -> None:
+    print(f"{'scenario':16s} {'n':>4s} {'runs':>7s} {'precision':9s} {'compile s':>9s} "
+          f"{'search s':>9s} {'evals/s':>11s} {'runs/s':>9s} {'finish s':>8s} {'calib s':>7s}")
+
+
+def print_cases(cases: list[dict[str, Any]]) -> None:
+    for c in cases:
+        print(f"{c['scenario']:16s} {c['n']:4d} {c['runs']:7,d} {c['precision']:9s} "
+              f"{c['compile_s']:9.2f} {c['search_median_s']:9.3f} "
+              f"{c['evaluations_per_s']:11,.0f} {c['runs_per_s']:9,.1f} {c['finish_s']:8.2f} "
+              f"{c['calibration_s']:7.4f}", flush=True)
+
+
+def print_memory(m: dict[str, Any]) -> None:
+    print(f"{m['runs']:>9,d} runs: peak RSS {m['peak_rss_mb']:7.0f} MB (before the runs "
+          f"{m['rss_before_runs_mb']:.0f} MB), {m['wall_s']:.1f} s in all (compile "
+          f"{m['compile_s']:.1f} s, search {m['search_s']:.1f} s), hit rate "
+          f"{m['hit_rate']:.1%}; calibration {m['calibration_s']:.4f} s", flush=True)
+
+
+def parse(argv=None) -> argparse.Namespace:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog="See the module docstring for what each part measures.")
+    p.add_argument("--quick", action="store_true", help="a fast smoke run of every part")
+    p.add_argument("--only", nargs="+", choices=("runs", "sizes", "memory", "deap"),
+                   default=["runs", "sizes", "memory", "deap"], help="parts to run")
+    p.add_argument("--runs", type=int, nargs="+", help="run counts at n = 9 (1 100 1000 10000)")
+    p.add_argument("--sizes", type=int, nargs="+", help="obstacle counts at R = 1000 (25 50 100)")
+    p.add_argument("--size-runs", type=int, help="runs per size case (1000)")
+    p.add_argument("--precisions", nargs="+", choices=("float32", "float64"),
+                   default=["float32", "float64"])
+    p.add_argument("--repeats", type=int, help="timed searches per case, median taken (3)")
+    p.add_argument("--memory-runs", type=int, nargs="+", help="run counts measured for peak "
+                   "RSS, each in a fresh process (10000 100000)")
+    p.add_argument("--million", action="store_true",
+                   help=f"also {MILLION:,} runs in chunks of {MILLION_CHUNK:,} (progress shown)")
+    p.add_argument("--deap-runs", type=int, help="DEAP runs timed (20)")
+    p.add_argument("--out", default=os.path.join("results", "benchmark", "benchmark.json"))
+    p.add_argument("--child-runs", type=int, help=argparse.SUPPRESS)
+    args = p.parse_args(argv)
+    quick = args.quick
+    defaults = {"runs": [1, 100] if quick else [1, 100, 1000, 10_000],
+                "sizes": [25] if quick else [25, 50, 100], "size_runs": 100 if quick else 1000,
+                "repeats": 1 if quick else 3,
+                "memory_runs": [1000] if quick else [10_000, 100_000],
+                "deap_runs": 2 if quick else 20}
+    for key, value in defaults.items():
+        if getattr(args, key) is None:
+            setattr(args, key, value)
+    return args
+
+
+def main(argv=None) -> int:
+    args = parse(argv)
+    if args.child_runs:
+        child(args.child_runs)
+        return 0
+    report: dict[str, Any] = {"machine": machine(), "settings": dataclasses.asdict(GASettings()),
+                              "quick": args.quick, "calibration_start_s": calibration()}
+    print(f"hga-jax {hga_jax.__version__}, JAX {jax.__version__} on {report['machine']['cpu']} "
+          f"({report['machine']['cores']} cores); calibration (10^6 pure-Python multiply-adds): "
+          f"{report['calibration_start_s']:.4f} s", flush=True)
+    cases: list[dict[str, Any]] = []
+    if "runs" in args.only or "sizes" in args.only:
+        print(f"\nhga-jax, paper settings; search: median of {args.repeats}", flush=True)
+        print_header()
+    if "runs" in args.only:
+        sc = paper_scene()
+        for precision in args.precisions:
+            for runs in args.runs:
+                cases.append(bench_case(sc, runs, precision, args.repeats))
+                print_cases(cases[-1:])
+    if "sizes" in args.only:
+        for n in args.sizes:
+            sc = clutter_scene(n)
+            for precision in args.precisions:
+                cases.append(bench_case(sc, args.size_runs, precision, args.repeats))
+                print_cases(cases[-1:])
+    if any(c["compile_s"] < 0.1 for c in cases):
+        print("(compile s near 0: an earlier case compiled the same batch shape; large jobs "
+              "run in batches of one shape)")
+    report["cases"] = cases
+    report["memory"] = []
+    if "memory" in args.only:
+        counts = list(args.memory_runs) + ([MILLION] if args.million else [])
+        print("\npeak memory (each in a fresh process, float32)", flush=True)
+        for runs in counts:
+            m = memory_case(runs)
+            m["within_limit"] = m["peak_rss_mb"] <= MEMORY_LIMIT_MB
+            report["memory"].append(m)
+            print_memory(m)
+    report["deap"] = report["ratio"] = None
+    if "deap" in args.only:
+        report["deap"] = deap = deap_case(args.deap_runs)
+        if deap is None:
+            print("\nDEAP: not installed (pip install deap), skipped")
+        else:
+            print(f"\nDEAP (same GA, pure-Python decoder) on robocup_paper: "
+                  f"{deap['median_per_run_s'] * 1e3:.1f} ms per run (median of {deap['runs']}); "
+                  f"calibration {deap['calibration_s']:.4f} s", flush=True)
+            report["ratio"] = r = ratio(cases, deap)
+            if r is not None:
+                print(f"hga-jax: {r['hga_jax_per_run_s'] * 1e3:.3f} ms per run (search, "
+                      f"R = {r['hga_jax_runs']:,}, float32): DEAP takes "
+                      f"{r['deap_over_hga_jax']:,.0f}x as long per run")
+    report["calibration_end_s"] = calibration()
+    print(f"\ncalibration at the end: {report['calibration_end_s']:.4f} s")
+    write_json(args.out, report)
+    print(f"wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
