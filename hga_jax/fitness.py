@@ -58,13 +58,17 @@ def looked_up(entries, circles: int, perm, labels):
     batch = perm.shape[0]
     dt = entries.dtype
 
-    def turn(a, b, nxt):
-        return entries[(a * c + b) * (c + 1) + nxt]  # (B, 2): one gather per position
+    def turn(a, b, nxt, on=True):
+        # (B, 2): one gather per position. An untouched position reads row 0, the
+        # same row for all of them: a cache hit instead of a miss (at n = 9 the
+        # lookups took 2.1 instead of 3.1-3.6 ms per 50,000 chromosomes, at n = 100
+        # 7.1-7.6 instead of 8.9-9.3 ms per 10,000).
+        return entries[jnp.where(on, (a * c + b) * (c + 1) + nxt, 0)]
 
     def body(carry, xs):
         a, b, length, viol = carry
         nxt, on = xs
-        row = turn(a, b, nxt)
+        row = turn(a, b, nxt, on)
         length = length + jnp.where(on, row[:, 0], 0.0)
         viol = viol + jnp.where(on, row[:, 1], 0.0)
         return (jnp.where(on, b, a), jnp.where(on, nxt, b), length, viol), None
