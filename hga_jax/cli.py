@@ -35,12 +35,11 @@ from typing import Any, Callable, Iterator, Sequence
 from . import __version__
 from .config import load_scenario
 from .errors import ConfigError, Interrupted, ModelMismatchError
-from .settings import (COLLISIONS, PERM_CROSSOVERS, PERM_MUTATIONS, PRECISIONS, SELECTIONS,
-                       GASettings)
+from .settings import (COLLISIONS, PAPER, PATH_MUTATIONS, PERM_CROSSOVERS, PERM_MUTATIONS,
+                       PRECISIONS, PRESETS, RECOMMENDED, SELECTIONS, GASettings)
 from .study import cli as study_cli
 
 DEFAULT_SCENARIO = os.path.join("configs", "scenarios", "robocup_paper.toml")
-PAPER = GASettings()
 GA_FLAGS = {  # setting -> (type, choices, help)
     "population": (int, None, "individuals per run"),
     "generations": (int, None, "generations after the random initial one"),
@@ -54,6 +53,12 @@ GA_FLAGS = {  # setting -> (type, choices, help)
     "perm_mutation": (str, PERM_MUTATIONS, "mutation of the permutation"),
     "elites": (int, None, "best individuals kept from one generation to the next"),
     "collision": (str, COLLISIONS, "collision test: full, or the paper's Appendix B test"),
+    "path_mutation": (str, PATH_MUTATIONS, "move on the touched sequence "
+                      "applied to children (none: off)"),
+    "pm_path": (float, None, "probability per child of the path move"),
+    "seeding": (float, None, "fraction of generation 0 (and restarts) built by wrapping "
+                "obstacles that block the direct path"),
+    "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),
 }
@@ -84,6 +89,10 @@ def _parser() -> argparse.ArgumentParser:
                      help="seed (0..2**32-1); run k uses (seed, k)")
     run.add_argument("--first-run", type=int, default=0, metavar="K",
                      help="index of the first run")
+    run.add_argument("--preset", choices=tuple(PRESETS), default="recommended",
+                     help="settings to start from: hga-jax's recommended HGA, or the paper's "
+                     "exactly (roulette, CX, inversion, two-point, label redraw, pc 0.4, "
+                     "pm 0.02, no elites); the scenario's [ga], --ga and flags go on top")
     run.add_argument("--ga", metavar="GA.toml",
                      help="TOML file of GA settings (top-level keys), over the scenario's [ga]")
     g = run.add_argument_group("GA settings", "override the scenario's [ga] table and --ga; "
@@ -91,7 +100,8 @@ def _parser() -> argparse.ArgumentParser:
     for key, (kind, choices, text) in GA_FLAGS.items():
         g.add_argument("--" + key.replace("_", "-"), type=kind, choices=choices,
                        metavar=None if choices else ("P" if kind is float else "N"),
-                       help=f"{text} (paper: {getattr(PAPER, key)})")
+                       help=f"{text} (recommended: {getattr(RECOMMENDED, key)}, "
+                            f"paper: {getattr(PAPER, key)})")
     run.add_argument("--chunk", type=int, metavar="N", help="runs per compiled batch (default: "
                      "about 50,000 chromosomes per batch, fewer if memory is short)")
     run.add_argument("--no-exact", action="store_true",
@@ -164,14 +174,16 @@ def _ga_table(path: str) -> dict[str, Any]:
         raise ConfigError(" ".join(f"{path}: toml: syntax error: {e}".splitlines())) from None
 
 
-def _settings(scenario, ga_path: str | None, flags: dict[str, Any]) -> GASettings:
-    """The layered settings: paper, scenario [ga], --ga file, flags (None: unset)."""
+def _settings(scenario, ga_path: str | None, flags: dict[str, Any],
+              base: GASettings | None = None) -> GASettings:
+    """The layered settings: ``base`` (a preset; default the paper's), scenario [ga],
+    --ga file, flags (None: unset)."""
     layers = [(scenario.ga, scenario.source, lambda k: f"ga.{k}")]
     if ga_path:
         layers.append((_ga_table(ga_path), ga_path, lambda k: k))
     layers.append(({k: v for k, v in flags.items() if v is not None}, "command line",
                    lambda k: "--" + k.replace("_", "-")))
-    return GASettings.layered(layers)
+    return GASettings.layered(layers, base)
 
 
 def _default_out(scenario_path: str, suffix: str = "") -> str:
@@ -232,7 +244,8 @@ def _check_run_flags(args) -> None:
 
 def _cmd_run(args) -> int:
     scenario = load_scenario(args.scenario)
-    settings = _settings(scenario, args.ga, {k: getattr(args, k) for k in GA_FLAGS})
+    settings = _settings(scenario, args.ga, {k: getattr(args, k) for k in GA_FLAGS},
+                         PRESETS[args.preset])
     _check_run_flags(args)
     joined = args.distributed or any(v is not None for v in (
         args.coordinator, args.num_processes, args.process_id))
@@ -258,7 +271,8 @@ def _cmd_run(args) -> int:
     from .runner import run_many
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
-                   chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet)
+                   chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet,
+                   preset=args.preset)
     if jax.process_index() != 0:  # process 0 writes and prints the result
         return 0
     with _ctrl_c_deferred():

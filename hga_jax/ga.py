@@ -25,7 +25,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from . import label_ops, perm_ops, rng, selection
+from . import label_ops, path_ops, perm_ops, rng, selection
 from .fitness import evaluate
 from .reductions import tree_sum
 from .scenario import ScenarioArrays
@@ -97,6 +97,24 @@ def positional(perm, labels, settings: GASettings):
     return jnp.concatenate([labels[..., :1], middle, labels[..., -1:]], axis=-1)
 
 
+def bound(perm, labels, settings: GASettings):
+    """Inverse of :func:`positional`: positional labels in the population's binding."""
+    if settings.label_binding == "position" or perm.shape[-1] == 0:
+        return labels
+    middle = jnp.zeros_like(labels[..., 1:-1])
+    middle = jax.vmap(lambda m, p, l: m.at[p].set(l))(
+        middle.reshape(-1, middle.shape[-1]), perm.reshape(-1, perm.shape[-1]),
+        labels[..., 1:-1].reshape(-1, middle.shape[-1])).reshape(middle.shape)
+    return jnp.concatenate([labels[..., :1], middle, labels[..., -1:]], axis=-1)
+
+
+def _legs(sa: ScenarioArrays):
+    if sa.legs is None:
+        raise ValueError("these settings use path moves or seeding: pass scenario arrays "
+                         "from Scenario.search_arrays(..., with_legs=True)")
+    return sa.legs
+
+
 def _evaluated(sa, perm, labels, settings) -> Population:
     if settings.penalty_weight != 1.0:
         sa = sa._replace(delta=sa.delta * settings.penalty_weight)
@@ -138,6 +156,8 @@ def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
     """``name -> (first row, rows)`` of a later generation's draw."""
     parts = (("select", selection.words_per_pick(settings.selection, settings.tournament_size)),
              ("cross_upper", 3), ("mutate_upper", 3), ("cross_lower", 3), ("redraw", n + 2))
+    if settings.path_mutation != "none":
+        parts += (("mutate_path", 3),)
     out, row = {}, 0
     for name, rows in parts:
         out[name], row = (row, rows), row + rows
@@ -146,9 +166,9 @@ def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
 
 def draw_rows(n: int, settings: GASettings) -> int:
     """Rows of words (of P each) every generation draws: enough for generation 0
-    (``2n + 2``) and for the later ones."""
+    (``2n + 2``, and 2 more with seeding) and for the later ones."""
     last = max(start + rows for start, rows in _layout(n, settings).values())
-    return max(2 * n + 2, last)
+    return max(2 * n + 2 + (2 if settings.seeding > 0 else 0), last)
 
 
 def _draw(key, n: int, settings: GASettings):
@@ -166,10 +186,23 @@ def _keys(rows):
     return jax.random.wrap_key_data(jnp.stack([rows[0], rows[1]], axis=-1), impl=rng.IMPL)
 
 
-def _fresh(words, n: int):
-    """Generation 0's chromosomes from its words: random permutations and labels."""
-    return (perm_ops.permutation_from_words(words[:n].T),
-            label_ops.labels_from_words(words[n:2 * n + 2].T))
+def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays | None = None):
+    """Generation 0's chromosomes from its words: random permutations and labels; with
+    ``seeding``, the first ``round(seeding * P)`` are then built by
+    :func:`hga_jax.path_ops.wrap_blockers` from their start and goal labels (keys
+    from rows ``2n + 2`` and ``2n + 3``)."""
+    perm = perm_ops.permutation_from_words(words[:n].T)
+    labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
+    if settings is None or settings.seeding <= 0 or n == 0:
+        return perm, labels
+    seeded = int(round(settings.seeding * perm.shape[0]))
+    legs = _legs(sa)
+    keys = _keys(words[2 * n + 2:2 * n + 4, :seeded])
+    pos = positional(perm[:seeded], labels[:seeded], settings)
+    sp, sl = jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs))(keys, perm[:seeded],
+                                                                           pos)
+    sl = bound(sp, sl, settings)
+    return perm.at[:seeded].set(sp), labels.at[:seeded].set(sl)
 
 
 def _pairwise(rows, op, prob, a, b):
@@ -189,7 +222,7 @@ def _crossover(rows, op, prob, x):
     return jnp.concatenate([paired, x[2 * half:]])
 
 
-def _vary(words, old: Population, settings: GASettings):
+def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | None = None):
     """Select parents from ``old`` and vary both modules: the children's chromosomes,
     from the generation's words (see the layout above)."""
     n = old.perm.shape[1]
@@ -211,7 +244,49 @@ def _vary(words, old: Population, settings: GASettings):
     labels = _crossover(rows("cross_lower"), label_ops.CROSSOVERS[settings.label_crossover],
                         settings.pc_lower, labels)
     mask, choice = label_ops.redraw_mask(rows("redraw").T, settings.pm_lower)
-    return perm, label_ops.redraw_apply(labels, mask, choice)
+    labels = label_ops.redraw_apply(labels, mask, choice)
+    if settings.path_mutation != "none" and n >= 1:
+        m, legs = rows("mutate_path"), _legs(sa)
+        move = path_ops.MOVES[settings.path_mutation]
+        pos = positional(perm, labels, settings)
+        mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)
+        do = (unit(m[0]) < settings.pm_path)[:, None]
+        perm, labels = jnp.where(do, mp, perm), jnp.where(do, bound(mp, ml, settings), labels)
+    return perm, labels
+
+
+def _stalled(state: GAState, g, settings: GASettings):
+    """Whether generation ``g`` restarts: ``g`` is a multiple of ``restart_after`` and
+    the best-so-far was not improved in the ``restart_after`` generations before it."""
+    if not settings.restart_after:
+        return jnp.asarray(False)
+    r = settings.restart_after
+    return (g > 0) & (g % r == 0) & (state.best.generation <= g - r)
+
+
+def _vary_or_restart(words, state: GAState, g, sa, settings: GASettings):
+    """The children of generation ``g >= 1`` and whether they are a restart. Restarts
+    are only considered every ``restart_after`` generations (``g`` is the same for
+    every run of a batch, so the other generations skip building new populations)."""
+    n = state.pop.perm.shape[-1]
+    perm, labels = _vary(words, state.pop, settings, sa)
+    restart = _stalled(state, g, settings)
+    if settings.restart_after:
+        def fresh(pl):
+            fp, fl = _fresh(words, n, settings, sa)
+            return jnp.where(restart, fp, pl[0]), jnp.where(restart, fl, pl[1])
+
+        perm, labels = jax.lax.cond(g % settings.restart_after == 0, fresh, lambda pl: pl,
+                                    (perm, labels))
+    return perm, labels, restart
+
+
+def _kept(pop: Population, old: Population, restart, settings: GASettings) -> Population:
+    """Elitism, except in generation 0 and restarts."""
+    if not settings.elites:
+        return pop
+    kept = _elitist(pop, old, settings)
+    return jax.tree.map(lambda a, b: jnp.where(restart, b, a), kept, pop)
 
 
 def _elitist(pop: Population, old: Population, settings: GASettings) -> Population:
@@ -228,7 +303,7 @@ def _elitist(pop: Population, old: Population, settings: GASettings) -> Populati
 def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
     """Random initial population (generation 0) from its key, evaluated."""
     n = sa.centres.shape[0]
-    pop = _evaluated(sa, *_fresh(_draw(key, n, settings), n), settings)
+    pop = _evaluated(sa, *_fresh(_draw(key, n, settings), n, settings, sa), settings)
     return GAState(pop, _update_best(_unset(pop), pop, 0, settings))
 
 
@@ -237,8 +312,9 @@ def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generati
     """One generation after the first, from its key: select, vary both modules,
     evaluate, keep elites, track the best."""
     words = _draw(key, sa.centres.shape[0], settings)
-    pop = _evaluated(sa, *_vary(words, state.pop, settings), settings)
-    pop = _elitist(pop, state.pop, settings)
+    perm, labels, restart = _vary_or_restart(words, state, generation, sa, settings)
+    pop = _evaluated(sa, perm, labels, settings)
+    pop = _kept(pop, state.pop, restart, settings)
     best = _update_best(state.best, pop, generation, settings)
     return GAState(pop, best), _record(pop, best)
 
@@ -299,12 +375,11 @@ def _generation(key, state: GAState, g, sa: ScenarioArrays, settings: GASettings
     later ones vary ``state``; one draw and one evaluation serve both."""
     n = sa.centres.shape[0]
     words = _draw(key, n, settings)
-    perm, labels = jax.lax.cond(g == 0, lambda w: _fresh(w, n),
-                                lambda w: _vary(w, state.pop, settings), words)
+    perm, labels = jax.lax.cond(g == 0, lambda w: _fresh(w, n, settings, sa),
+                                lambda w: _vary_or_restart(w, state, g, sa, settings)[:2], words)
+    restart = (g == 0) | _stalled(state, g, settings)
     pop = _evaluated(sa, perm, labels, settings)
-    if settings.elites:
-        kept = _elitist(pop, state.pop, settings)
-        pop = jax.tree.map(lambda a, b: jnp.where(g > 0, a, b), kept, pop)
+    pop = _kept(pop, state.pop, restart, settings)
     before = jax.tree.map(lambda a, b: jnp.where(g > 0, a, b), state.best, _unset(pop))
     best = _update_best(before, pop, g, settings)
     return GAState(pop, best), _record(pop, best)

@@ -47,7 +47,19 @@ def operators(st: GASettings) -> str:
     return (f"{sel}; order: {st.perm_crossover} crossover (pc {st.pc_upper:g}), "
             f"{st.perm_mutation} mutation (pm {st.pm_upper:g}); labels: {st.label_crossover} "
             f"crossover (pc {st.pc_lower:g}), redraw (pm {st.pm_lower:g} per gene); "
-            f"{count(st.elites, 'elite')}")
+            f"{count(st.elites, 'elite')}" + _extras(st))
+
+
+def _extras(st: GASettings) -> str:
+    """The settings beyond the paper's, when set."""
+    out = []
+    if st.path_mutation != "none":
+        out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
+    if st.seeding > 0:
+        out.append(f"seeded by wrapping blockers ({pct(st.seeding)} of each new population)")
+    if st.restart_after:
+        out.append(f"restart after {count(st.restart_after, 'stalled generation')}")
+    return "".join("; " + o for o in out)
 
 
 def _generations(value: float | None, runs: int, what: str) -> str:
@@ -78,7 +90,7 @@ def run_summary(res: RunsResult) -> str:
         f"scenario {sc.name} ({count(sc.n, 'obstacle')}), collision {st.collision}: "
         f"{count(runs, 'run')} of seed {res.seed}, population {st.population}, "
         f"{count(st.generations, 'generation')}, precision {st.precision}",
-        f"operators: {operators(st)}",
+        f"operators{f' (preset {res.preset})' if res.preset else ''}: {operators(st)}",
         f"best length {s['best_length']:.6f} m ({'feasible' if s['best_feasible'] else 'INFEASIBLE'}"
         f", touches {touches(res.best.touched)}), found in {s['runs_found_best']:,} of "
         f"{count(runs, 'run')}, median generation first reached {med:g}",

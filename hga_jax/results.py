@@ -47,6 +47,7 @@ class RunsResult:
     search_s: float = 0.0
     finish_s: float = 0.0
     evaluations: int = 0
+    preset: str | None = None  # the preset the settings were built on (None: not said)
 
     @property
     def feasible(self) -> np.ndarray:
@@ -143,6 +144,7 @@ class RunsResult:
         return result_document(self.scenario, {
             "seed": self.seed,
             "runs": [int(self.run_ids[0]), int(self.run_ids[-1])],
+            "preset": self.preset,
             "settings": asdict(self.settings),
             "best": {"run": self.best_run, **self.best.to_dict()},
             "optimum": optimum_dict(self.optimum),

@@ -98,7 +98,8 @@ def _sharding():
 
 def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: int = 0,
              runs: int = 1, first_run: int = 0, chunk: int | None = None,
-             exact: bool = True, progress: bool = False) -> RunsResult:
+             exact: bool = True, progress: bool = False,
+             preset: str | None = None) -> RunsResult:
     """Runs ``first_run .. first_run + runs - 1`` of ``seed`` on ``scenario``.
 
     ``settings`` defaults to the scenario's ``[ga]`` table over the paper's
@@ -107,7 +108,8 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
     also lowers a ``chunk`` that would not fit in memory and refuses a job whose
     results cannot fit). Each batch runs in blocks of generations, so Ctrl-C stops
     the job within a block (:class:`~hga_jax.errors.Interrupted`); ``progress``
-    shows a bar of generations on stderr.
+    shows a bar of generations on stderr. ``preset``: the name of the preset the
+    settings were built on (:data:`hga_jax.settings.PRESETS`), recorded in the result.
 
     In a multi-process job (after :func:`hga_jax.distributed.initialize`) every
     process makes the same call: each searches its share of the runs on its own
@@ -155,6 +157,7 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
         compile_s=found.compile_s, search_s=found.search_s,
         finish_s=found.finish_s + time.perf_counter() - t0,
         evaluations=runs * settings.population * (settings.generations + 1),
+        preset=preset,
     )
 
 
@@ -200,7 +203,7 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                         f"generations of {count(runs, 'run')}" if cut.batches == 1 else
                         f"generations of {cut.batches} batches of {count(size, 'run')}")
         with jax.enable_x64(dtype == np.float64):
-            sa = scenario.search_arrays(dtype, settings.collision)
+            sa = scenario.search_arrays(dtype, settings.collision, settings.uses_legs)
             t0 = time.perf_counter()
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))

@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import tangents, turns
+from . import legs, tangents, turns
 
 
 @dataclass(frozen=True)
@@ -76,12 +76,19 @@ class Scenario:
             self._arrays[key] = self._build_arrays(key)
         return self._arrays[key]
 
-    def search_arrays(self, dtype: Any = np.float32, collision: str = "full") -> "ScenarioArrays":
+    def search_arrays(self, dtype: Any = np.float32, collision: str = "full",
+                      with_legs: bool = False) -> "ScenarioArrays":
         """:meth:`arrays` with the turn table of ``collision`` (``"full"`` or ``"paper"``)
         in ``dtype``, when it is usable and not too large (:func:`hga_jax.turns.fits`);
         otherwise without one, and the fitness decodes leg by leg. Built once per mode
-        (from the float64 tangent table), cast per dtype."""
+        (from the float64 tangent table), cast per dtype. ``with_legs``: also the
+        per-leg blockers that the path operators read (:mod:`hga_jax.legs`)."""
         sa = self.arrays(dtype)
+        if with_legs:
+            if "legs" not in self._turns:
+                s64 = self.arrays(np.float64)
+                self._turns["legs"] = legs.build(s64.tangents, s64.centres, s64.model_radii)
+            sa = sa._replace(legs=self._turns["legs"])
         if collision not in self._turns:
             table = None
             if turns.fits(self.n):
@@ -127,6 +134,8 @@ class ScenarioArrays(NamedTuple):
     turns_full, turns_paper: the turn table's entries (:mod:`hga_jax.turns`) for
     each collision mode, or None (the fitness then decodes leg by leg); only
     :meth:`Scenario.search_arrays` fills them.
+    legs: the per-leg blockers of :mod:`hga_jax.legs` (for the path operators), or
+    None; filled by ``search_arrays(..., with_legs=True)``.
     """
 
     start: Any
@@ -139,3 +148,4 @@ class ScenarioArrays(NamedTuple):
     tangents: Any
     turns_full: Any = None
     turns_paper: Any = None
+    legs: Any = None

@@ -16,7 +16,16 @@ Probability conventions:
 the obstacle at position ``k`` of the permutation) or ``"obstacle"`` (label
 ``1 + i`` belongs to obstacle ``i`` wherever the permutation puts it, so
 crossover and mutation of the permutation keep each obstacle's turning
-direction). ``penalty_weight`` scales the paper's penalty per violation
+direction). Path moves (:mod:`hga_jax.path_ops`, off in the paper): ``path_mutation`` names
+a move on the touched sequence (``"none"``: no move) applied to each child with
+probability ``pm_path`` after the paper's operators. ``seeding``: the fraction of
+generation 0 (and of every restart) built by wrapping the obstacles that block
+the direct path, leg by leg (:func:`hga_jax.path_ops.wrap_blockers`) instead of
+drawn at random. ``restart_after = R``: at generations R, 2R, 3R, ..., a run whose best-so-far
+did not improve in the last R generations starts a new population, drawn like
+generation 0, without elites (0: never restart). The best-so-far is kept.
+
+``penalty_weight`` scales the paper's penalty per violation
 ``2*pi*R`` during the search (1 = the paper); reported lengths, feasibility and
 gaps do not depend on it.
 """
@@ -32,6 +41,7 @@ from .errors import ConfigError
 SELECTIONS = ("roulette", "tournament")
 PERM_CROSSOVERS = ("cx", "pmx", "ox1")  # built in; more can be registered (perm_ops)
 PERM_MUTATIONS = ("inversion", "exchange")
+PATH_MUTATIONS = ("none", "flip", "drop", "insert", "shift", "repair", "mixed")  # path_ops
 LABEL_CROSSOVERS = ("two_point",)
 LABEL_BINDINGS = ("position", "obstacle")
 COLLISIONS = ("full", "paper")
@@ -58,6 +68,15 @@ class GASettings:
     precision: str = "float32"
     label_binding: str = "position"
     penalty_weight: float = 1.0
+    path_mutation: str = "none"
+    pm_path: float = 0.0
+    seeding: float = 0.0
+    restart_after: int = 0
+
+    @property
+    def uses_legs(self) -> bool:
+        """Whether the search reads the per-leg blockers (:mod:`hga_jax.legs`)."""
+        return self.path_mutation != "none" or self.seeding > 0
 
     def __post_init__(self) -> None:
         self.validate("<settings>")
@@ -80,7 +99,7 @@ class GASettings:
         def pop() -> str:
             return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
-        for key in ("population", "generations", "tournament_size", "elites"):
+        for key in ("population", "generations", "tournament_size", "elites", "restart_after"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad(key, f"must be an integer, got {v!r}")
@@ -92,7 +111,9 @@ class GASettings:
             raise bad("tournament_size", f"must be in 1..{pop()}, got {self.tournament_size}")
         if not 0 <= self.elites < self.population:
             raise bad("elites", f"must be in 0..{pop()} - 1, got {self.elites}")
-        for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower"):
+        if self.restart_after < 0:
+            raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
+        for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")
@@ -102,13 +123,14 @@ class GASettings:
         if isinstance(w, bool) or not isinstance(w, (int, float)) or not (
                 math.isfinite(w) and w > 0):
             raise bad("penalty_weight", f"must be a finite number > 0, got {w!r}")
-        from . import label_ops, perm_ops  # registries: built-in and registered operators
+        from . import label_ops, path_ops, perm_ops  # registries: built-in and registered
 
         for key, allowed in (
             ("selection", SELECTIONS),
             ("perm_crossover", tuple(perm_ops.CROSSOVERS)),
             ("perm_mutation", tuple(perm_ops.MUTATIONS)),
             ("label_crossover", tuple(label_ops.CROSSOVERS)),
+            ("path_mutation", ("none",) + tuple(path_ops.MOVES)),
             ("label_binding", LABEL_BINDINGS),
             ("collision", COLLISIONS),
             ("precision", PRECISIONS),
@@ -165,6 +187,28 @@ class GASettings:
         """A copy with ``changes`` applied (None values ignored), validated."""
         changes = {k: v for k, v in changes.items() if v is not None}
         return GASettings.from_mapping(changes, source, prefix="ga", base=self)
+
+
+PAPER = GASettings()
+"""The paper's HGA (section 4): the defaults of :class:`GASettings`."""
+
+RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
+                         path_mutation="flip", pm_path=1.0, seeding=1.0, restart_after=8)
+"""hga-jax's recommended HGA, on the paper's budget (50 x 51 chromosomes): the
+paper's operators and rates, plus generation 0 and restarts seeded by wrapping
+blocking obstacles, one direction flip per child, tournament selection, 2 elites
+and restarts of runs stalled for 8 generations (``configs/ga/recommended.toml``;
+measured in the README, "Beyond the paper")."""
+
+PRESETS: dict[str, GASettings] = {"recommended": RECOMMENDED, "paper": PAPER}
+"""Named settings: ``hga-jax run --preset NAME`` (default ``recommended``)."""
+
+
+def preset(name: str, source: str = "<preset>") -> GASettings:
+    """The settings of preset ``name`` (:data:`PRESETS`); ConfigError if unknown."""
+    if name not in PRESETS:
+        raise ConfigError(f"{source}: preset: must be one of {', '.join(PRESETS)}, got {name!r}")
+    return PRESETS[name]
 
 
 def _dotted(prefix: str, key: str) -> str:

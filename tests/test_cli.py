@@ -1,5 +1,6 @@
 """The command line: result files, summaries, and one-line errors for bad input."""
 import csv
+import dataclasses
 import json
 import os
 import subprocess
@@ -246,7 +247,9 @@ def test_summary_reads_well(tmp_path, capsys):
                  "--quiet", "--out", str(tmp_path / "o")]) == 0
     text = capsys.readouterr().out
     assert "None" not in text and "1 runs" not in text and "1 run of seed 0" in text
-    assert "collision full" in text and "roulette selection" in text and "cx crossover" in text
+    assert "collision full" in text and "tournament selection (size 2)" in text
+    assert "operators (preset recommended)" in text and "path move flip (pm 1)" in text
+    assert "restart after 8 stalled generations" in text
     import re
 
     assert re.findall(r"\d+\.(\d+)%", text) and all(
@@ -403,7 +406,31 @@ def test_help_shows_defaults_and_every_argument_is_explained(capsys):
         main(["run", "--help"])
     text = " ".join(capsys.readouterr().out.split())
     assert "number of runs (default: 1)" in text and "(default: 0)" in text
-    assert "individuals per run (paper: 50)" in text
+    assert "individuals per run (recommended: 50, paper: 50)" in text
+    assert "parent selection (recommended: tournament, paper: roulette)" in text
+    assert "{recommended,paper}" in text and "(default: recommended)" in text
+
+
+def test_preset_paper_reproduces_the_papers_settings_and_is_recorded(tmp_path):
+    from hga_jax.settings import PAPER, RECOMMENDED
+
+    scen = _write(tmp_path, GOOD, "good.toml")
+    docs = {}
+    for preset in ("paper", "recommended"):
+        out = tmp_path / preset
+        assert main(["run", scen, "--runs", "2", "--generations", "3", "--quiet",
+                     "--preset", preset, "--out", str(out)]) == 0
+        docs[preset] = json.loads((out / "result.json").read_text())
+    assert docs["paper"]["preset"] == "paper"
+    assert docs["paper"]["settings"] == {**dataclasses.asdict(PAPER), "generations": 3}
+    assert docs["recommended"]["preset"] == "recommended"
+    assert docs["recommended"]["settings"] == {**dataclasses.asdict(RECOMMENDED), "generations": 3}
+    # the paper's HGA: roulette, CX, inversion, two-point, redraw, 0.4/0.02, no elites
+    p = docs["paper"]["settings"]
+    assert (p["selection"], p["perm_crossover"], p["perm_mutation"], p["label_crossover"],
+            p["pc_upper"], p["pm_upper"], p["pc_lower"], p["pm_lower"], p["elites"],
+            p["path_mutation"], p["seeding"], p["restart_after"]) == (
+        "roulette", "cx", "inversion", "two_point", 0.4, 0.02, 0.4, 0.02, 0, "none", 0.0, 0)
 
 
 def test_a_bad_cache_folder_is_reported(tmp_path, monkeypatch, capsys):

@@ -1,0 +1,41 @@
+"""Per-leg information for the path operators: which obstacles block each tangent.
+
+The operators of :mod:`hga_jax.path_ops` may look at the legs of a path the way
+TSP operators look at a distance matrix: for every directed tangent ``a -> c``
+between two oriented circles (ids of :mod:`hga_jax.tangents`) they may ask which
+obstacles its segment passes through. They never search over whole paths.
+
+- ``blockers[a, c, j]``: the segment of the tangent ``a -> c`` comes closer to
+  obstacle ``j``'s centre than its model radius (the full criterion of
+  docs/model.md; a missing tangent's stand-in counts too).
+- ``blocked[a, c]``: some obstacle blocks the segment.
+
+Host code (numpy), built once per scenario from the float64 tangent table.
+"""
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from . import geometry as g
+from .tangents import TangentTable
+
+
+class Legs(NamedTuple):
+    """``blockers`` (C, C, n) and ``blocked`` (C, C), bool (see module doc)."""
+
+    blockers: Any
+    blocked: Any
+
+
+def build(tb: TangentTable, centres, model_radii) -> Legs:
+    """The legs of a scenario from its tangent table (float64 recommended)."""
+    f8 = np.float64
+    tol = g.tolerances(f8)
+    centres = np.asarray(centres, f8).reshape(-1, 2)
+    radii = np.asarray(model_radii, f8).reshape(-1)
+    p1x, p1y, p2x, p2y = (np.asarray(v, f8)[..., None] for v in (tb.p1x, tb.p1y, tb.p2x, tb.p2y))
+    qx, qy = centres[:, 0], centres[:, 1]
+    hits = np.asarray(g.segment_hits(p1x, p1y, p2x, p2y, qx, qy, radii, tol.length), bool)
+    return Legs(blockers=hits, blocked=np.any(hits, axis=-1))
