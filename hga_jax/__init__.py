@@ -4,14 +4,14 @@ Notebook use::
 
     import hga_jax as hg
     sc = hg.load_scenario("configs/scenarios/robocup_paper.toml")
-    res = hg.run_many(sc, runs=100, seed=1)
+    res = hg.run_many(sc, "recommended", runs=100, seed=1)  # or "paper", or a GASettings
     print(hg.run_summary(res))
     hg.plot_path(sc, res.best.segments, touched=res.best.touched)
     hg.write_run(res, "results/notebook", plot=True, force=True)  # replaces an earlier result
 
 The model and the result files are defined in docs/model.md.
 """
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 from . import distributed  # hga_jax.distributed.initialize: one job over several processes
 from .config import load_scenario, scenario_from_dict
@@ -23,11 +23,11 @@ from .report import run_summary, write_run
 from .results import RunsResult
 from .runner import enable_compilation_cache, run_many, settings_for
 from .scenario import Field, Scenario
-from .settings import GASettings
+from .settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset
 
 __all__ = [
-    "ConfigError", "Field", "GASettings", "Interrupted", "ModelMismatchError", "Path",
-    "RunsResult", "Scenario",
+    "ConfigError", "Field", "GASettings", "Interrupted", "ModelMismatchError", "PAPER", "PRESETS",
+    "Path", "RECOMMENDED", "RunsResult", "Scenario", "preset",
     "enable_compilation_cache",
     "evaluate_path", "from_chromosome", "load_scenario", "plot_convergence", "plot_path",
     "run_many", "run_summary", "save_figure", "scenario_from_dict", "settings_for", "solve",

@@ -31,6 +31,7 @@ from .path import decode64, evaluate_path
 from .results import RunsResult
 from .scenario import Scenario
 from .settings import GASettings
+from .settings import preset as presets
 
 _COMPILED: dict[Any, Any] = {}  # recent compiled programs (a study reuses them across scenes)
 _COMPILED_KEEP = 16
@@ -96,14 +97,15 @@ def _sharding():
     return jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("runs"))
 
 
-def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: int = 0,
+def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, seed: int = 0,
              runs: int = 1, first_run: int = 0, chunk: int | None = None,
              exact: bool = True, progress: bool = False,
              preset: str | None = None) -> RunsResult:
     """Runs ``first_run .. first_run + runs - 1`` of ``seed`` on ``scenario``.
 
     ``settings`` defaults to the scenario's ``[ga]`` table over the paper's
-    settings. ``exact`` also solves the model's optimum and reports the gap.
+    settings; a preset's name (``"recommended"``, ``"paper"``) puts that table over
+    the preset's settings and records the name. ``exact`` also solves the model's optimum and reports the gap.
     ``chunk``: runs per compiled batch (None: sized by :mod:`hga_jax.budget`, which
     also lowers a ``chunk`` that would not fit in memory and refuses a job whose
     results cannot fit). Each batch runs in blocks of generations, so Ctrl-C stops
@@ -118,6 +120,9 @@ def run_many(scenario: Scenario, settings: GASettings | None = None, *, seed: in
     one a single process gives; ``compile_s`` and ``search_s`` are then the
     slowest process's, and only process 0 shows progress.
     """
+    if isinstance(settings, str):  # a preset's name: its settings under the scenario's [ga]
+        preset = settings
+        settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
     for key, value, low, high in (("seed", seed, 0, 2**32), ("runs", runs, 1, 2**31),
                                   ("first_run", first_run, 0, 2**31 - runs),
