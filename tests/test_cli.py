@@ -318,7 +318,7 @@ def test_ctrl_c_stops_a_long_run_promptly_and_writes_nothing(tmp_path):
 
     out = tmp_path / "never"
     env = {**os.environ, "JAX_PLATFORMS": "cpu", "HGA_JAX_CACHE_DIR": "off"}
-    proc = subprocess.Popen([sys.executable, "-m", "hga_jax", "run", ROBOCUP, "--runs", "100",
+    proc = subprocess.Popen([sys.executable, "-m", "hga_jax", "run", ROBOCUP, "--preset", "paper", "--runs", "100",
                              "--generations", "1000000", "--out", str(out)],
                             stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
     import re

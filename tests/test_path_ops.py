@@ -1,169 +1,517 @@
 """Moves on the touched sequence (hga_jax/path_ops.py) and the per-leg blockers they
-read (hga_jax/legs.py): worked examples, and invariants of every registered move."""
+read (hga_jax/legs.py): worked examples, a numpy reference of ``move_apply``, the
+invariants of every registered move (n = 1, 9 and 30; n > 20 takes perm_ops._take's
+gathers), ``wrap_blockers`` on hand-built scenes, ``legs.build`` against an
+independent point-segment distance, and the path settings."""
+import tomllib
+
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
 from hga_jax import legs as legs_mod
-from hga_jax import path_ops, rng
+from hga_jax import path_ops, perm_ops, rng
 from hga_jax.config import load_scenario, scenario_from_dict
 from hga_jax.errors import ConfigError
 from hga_jax.settings import GASettings
 
+COUNT = 200  # random chromosomes (and keys) per move and scene
 
-def _scene(obstacles, start=(0.0, 0.0, 0.0), goal=(3.0, 0.0, 0.0)):
+
+# --- helpers (numpy, written from docs/model.md and the module docs) ---------------
+
+def _scene(obstacles, start=(0.0, 0.0, 0.0), goal=(3.0, 0.0, 0.0), name="hand"):
+    """Robot radius 0.09 m, rho 0.18 m: a default obstacle's model radius is 0.18 m.
+    ``obstacles``: (x, y) or (x, y, physical radius)."""
     return scenario_from_dict({
-        "name": "line", "robot": {"radius": 0.09, "min_turn_radius": 0.18},
+        "name": name, "robot": {"radius": 0.09, "min_turn_radius": 0.18},
         "start": {"x": start[0], "y": start[1], "heading_deg": start[2]},
         "goal": {"x": goal[0], "y": goal[1], "heading_deg": goal[2]},
-        "obstacles": [{"x": x, "y": y} for x, y in obstacles]})
+        "obstacles": [{"x": o[0], "y": o[1], **({"radius": o[2]} if len(o) > 2 else {})}
+                      for o in obstacles]})
+
+
+def _grid30():
+    """30 obstacles on a jittered 10 x 3 grid across the start-goal line, no two model
+    circles overlapping (centres >= 0.4 m apart, model radius 0.18 m)."""
+    r = np.random.default_rng(30)
+    pts = [(round(0.6 + 0.5 * c + r.uniform(-0.05, 0.05), 3),
+            round(-0.6 + 0.6 * row + r.uniform(-0.05, 0.05), 3))
+           for c in range(10) for row in range(3)]
+    return _scene(pts, goal=(5.6, 0.0, 0.0), name="grid30")
+
+
+def _cluttered30():
+    """configs/scenarios/cluttered.toml (28 obstacles of mixed radii, overlapping model
+    circles) plus two more obstacles."""
+    with open("configs/scenarios/cluttered.toml", "rb") as f:
+        d = tomllib.load(f)
+    d["obstacles"] += [{"x": 1.2, "y": 2.0}, {"x": 3.0, "y": 1.6, "radius": 0.12}]
+    return scenario_from_dict(d)
+
+
+def _legs(sc):
+    return sc.search_arrays(np.float64, "full", with_legs=True).legs
 
 
 def _touched(perm, labels):
-    """The touched sequence: (obstacle, label) in permutation order."""
+    """The touched obstacles: (obstacle, label) in permutation order."""
     return [(int(o), int(l)) for o, l in zip(perm, labels[1:-1]) if l != 0]
 
 
+def _circle_ids(perm, labels):
+    """Circle ids (hga_jax/tangents.py numbering) of the touched sequence, start to goal."""
+    n = len(perm)
+    ids = [(1 + int(labels[0])) // 2]
+    ids += [4 + 2 * int(perm[p]) + (1 - int(labels[p + 1])) // 2
+            for p in range(n) if labels[p + 1] != 0]
+    return ids + [2 + (1 + int(labels[-1])) // 2]
+
+
+def _blocked_pairs(perm, labels, blocked):
+    """The consecutive (circle, circle) pairs of the touched sequence whose leg is blocked."""
+    ids = _circle_ids(perm, labels)
+    return [(a, c) for a, c in zip(ids, ids[1:]) if blocked[a, c]]
+
+
 def _random(n, count, seed):
+    """Random chromosomes: 1/8 with no obstacle touched, 1/8 with all touched."""
     r = np.random.default_rng(seed)
     perm = np.stack([r.permutation(n) for _ in range(count)]).astype(np.int32)
     labels = r.integers(-1, 2, size=(count, n + 2)).astype(np.int32)
     labels[:, 0] = r.choice([-1, 1], count)
     labels[:, -1] = r.choice([-1, 1], count)
-    labels[: count // 8, 1:-1] = 0  # some with nothing touched
+    labels[: count // 8, 1:-1] = 0
     labels[count // 8: count // 4, 1:-1] = r.choice([-1, 1], (count // 4 - count // 8, n))
     return perm, labels
 
 
-# --- move_apply: worked examples -------------------------------------------------
+def _move_ref(perm, mid, j, i, label):
+    """Reference of move_apply on the middle labels: pop position j, put it at i."""
+    p, m = list(perm), list(mid)
+    o = p.pop(j)
+    m.pop(j)
+    p.insert(i, o)
+    m.insert(i, label)
+    return p, m
+
+
+def _explain(perm, mid, p2, m2):
+    """Every (j, i) such that (p2, m2) is (perm, mid) with the obstacle at position j
+    moved to i (taking label m2[i]); [] if it is no single move."""
+    perm, mid, p2, m2 = (list(map(int, x)) for x in (perm, mid, p2, m2))
+    n = len(perm)
+    if perm == p2:
+        diff = [x for x in range(n) if mid[x] != m2[x]]
+        return [] if len(diff) > 1 else [(diff[0], diff[0])] if diff else [(x, x) for x in range(n)]
+    d = [x for x in range(n) if perm[x] != p2[x]]
+    a, b = d[0], d[-1]
+    return [(j, i) for j, i in ((a, b), (b, a)) if _move_ref(perm, mid, j, i, m2[i]) == (p2, m2)]
+
+
+# --- what each move promises, chromosome by chromosome -----------------------------
+# Each takes (perm, labels, p2, l2, legs) as numpy arrays and says whether the move
+# could have produced (p2, l2) from (perm, labels).
+
+def _is_flip(perm, lab, p2, l2, legs=None):
+    diff = np.flatnonzero(l2 != lab)
+    return (np.array_equal(p2, perm) and diff.size == 1
+            and lab[diff[0]] != 0 and l2[diff[0]] == -lab[diff[0]])
+
+
+def _is_drop(perm, lab, p2, l2, legs=None):
+    if not np.array_equal(p2, perm):
+        return False
+    if not np.any(lab[1:-1]):
+        return np.array_equal(l2, lab)
+    diff = np.flatnonzero(l2 != lab)
+    return diff.size == 1 and 1 <= diff[0] <= len(perm) and lab[diff[0]] != 0 and l2[diff[0]] == 0
+
+
+def _is_insert(perm, lab, p2, l2, legs=None):
+    if not np.array_equal(l2[[0, -1]], lab[[0, -1]]):
+        return False
+    if np.all(lab[1:-1] != 0):  # nothing to insert
+        return np.array_equal(p2, perm) and np.array_equal(l2, lab)
+    before, after = _touched(perm, lab), _touched(p2, l2)
+    ok = any(lab[1 + j] == 0 and l2[1 + i] != 0 for j, i in _explain(perm, lab[1:-1], p2, l2[1:-1]))
+    # so one more obstacle is touched, the others in their order with their labels
+    assert not ok or (len(after) == len(before) + 1 and [t for t in after if t in before] == before)
+    return ok
+
+
+def _is_shift(perm, lab, p2, l2, legs=None):
+    if not np.array_equal(l2[[0, -1]], lab[[0, -1]]):
+        return False
+    if not np.any(lab[1:-1]):  # nothing to shift
+        return np.array_equal(p2, perm) and np.array_equal(l2, lab)
+    ok = any(lab[1 + j] != 0 and l2[1 + i] == lab[1 + j]
+             for j, i in _explain(perm, lab[1:-1], p2, l2[1:-1]))
+    assert not ok or sorted(_touched(p2, l2)) == sorted(_touched(perm, lab))
+    return ok
+
+
+def _repair_kind(perm, lab, p2, l2, legs):
+    """"wrap": an obstacle that blocks a blocked leg moved, in either direction, to just
+    after the leg's first circle (so between the leg's two circles); "insert": an
+    insert, allowed when no leg is blocked or when the drawn blocker is the leg's first
+    circle (a missing tangent's stand-in can cross its own circles); None: neither."""
+    n = len(perm)
+    if not np.array_equal(l2[[0, -1]], lab[[0, -1]]):
+        return None
+    blockers, blocked = np.asarray(legs.blockers), np.asarray(legs.blocked)
+    pos = [0] + [p + 1 for p in range(n) if lab[p + 1] != 0] + [n + 1]  # label positions
+    ids = _circle_ids(perm, lab)
+    legs_in = [(k, ids[t], ids[t + 1]) for t, k in enumerate(pos[:-1])
+               if blocked[ids[t], ids[t + 1]]]  # (first label position, a, c)
+    for j, i in _explain(perm, lab[1:-1], p2, l2[1:-1]):
+        o = int(perm[j])
+        if l2[1 + i] == 0:
+            continue
+        for k, a, c in legs_in:
+            q = k - 1  # the leg's first circle as a permutation position (-1: start)
+            if blockers[a, c, o] and j != q and i == (q + 1 if j > q else q):
+                return "wrap"
+    first_is_blocker = any(k >= 1 and blockers[a, c, int(perm[k - 1])] for k, a, c in legs_in)
+    if (not legs_in or first_is_blocker) and _is_insert(perm, lab, p2, l2):
+        return "insert"
+    return None
+
+
+def _is_repair(perm, lab, p2, l2, legs):
+    return _repair_kind(perm, lab, p2, l2, legs) is not None
+
+
+CHECKS = {"flip": _is_flip, "drop": _is_drop, "insert": _is_insert, "shift": _is_shift,
+          "repair": _is_repair}
+
+
+# --- the helpers themselves --------------------------------------------------------
+
+def test_explain_finds_single_moves_only():
+    perm, mid = [4, 0, 3, 1, 2], [-1, 0, 1, 0, -1]
+    p2, m2 = _move_ref(perm, mid, 1, 3, 1)
+    assert (p2, m2) == ([4, 3, 1, 0, 2], [-1, 1, 0, 1, -1])
+    assert _explain(perm, mid, p2, m2) == [(1, 3)]
+    assert _explain(perm, mid, [0, 4, 3, 1, 2], [0, -1, 1, 0, -1]) == [(0, 1), (1, 0)]
+    assert _explain(perm, mid, [4, 0, 2, 1, 3], mid) == []  # a swap of distant elements
+    assert _explain(perm, mid, perm, [-1, 0, 1, 1, 1]) == []  # two labels changed
+
+
+# --- move_apply: worked examples and the reference -----------------------------------
 
 def test_move_forwards_backwards_and_in_place():
     perm = jnp.array([4, 0, 3, 1, 2], jnp.int32)
-    lab = jnp.array([1, -1, 0, 1, 0, -1, -1], jnp.int32)  # ends 1 and -1
+    lab = jnp.array([1, -1, 0, 1, 0, -1, -1], jnp.int32)  # start +1, goal -1
+    # forwards: obstacle 0 from position 1 to 3; 3 and 1 shift back with their labels
     p, l = path_ops.move_apply(perm, lab, jnp.int32(1), jnp.int32(3), jnp.int32(1))
-    assert p.tolist() == [4, 3, 1, 0, 2]  # obstacle 0 from position 1 to 3
-    assert l.tolist() == [1, -1, 1, 0, 1, -1, -1]  # its label now +1; the others travel
+    assert p.tolist() == [4, 3, 1, 0, 2]
+    assert l.tolist() == [1, -1, 1, 0, 1, -1, -1]
+    # backwards: obstacle 2 from the last position to the first, label -1
     p, l = path_ops.move_apply(perm, lab, jnp.int32(4), jnp.int32(0), jnp.int32(-1))
-    assert p.tolist() == [2, 4, 0, 3, 1] and l.tolist() == [1, -1, -1, 0, 1, 0, -1]
+    assert p.tolist() == [2, 4, 0, 3, 1]
+    assert l.tolist() == [1, -1, -1, 0, 1, 0, -1]
+    # in place: only the label changes
     p, l = path_ops.move_apply(perm, lab, jnp.int32(2), jnp.int32(2), jnp.int32(-1))
-    assert p.tolist() == perm.tolist() and l.tolist() == [1, -1, 0, -1, 0, -1, -1]
+    assert p.tolist() == [4, 0, 3, 1, 2] and l.tolist() == [1, -1, 0, -1, 0, -1, -1]
+    # one step forwards = a swap of neighbours, labels swapped with them
+    p, l = path_ops.move_apply(perm, lab, jnp.int32(0), jnp.int32(1), jnp.int32(-1))
+    assert p.tolist() == [0, 4, 3, 1, 2] and l.tolist() == [1, 0, -1, 1, 0, -1, -1]
 
 
-# --- every registered move: invariants --------------------------------------------
+def test_move_leaves_start_and_goal_labels_alone():
+    perm = jnp.array([1, 0], jnp.int32)
+    for ends in ([1, 1], [1, -1], [-1, 1], [-1, -1]):
+        lab = jnp.array([ends[0], 1, 0, ends[1]], jnp.int32)
+        p, l = path_ops.move_apply(perm, lab, jnp.int32(0), jnp.int32(1), jnp.int32(-1))
+        assert p.tolist() == [0, 1] and l.tolist() == [ends[0], 0, -1, ends[1]]
+    p, l = path_ops.move_apply(jnp.array([0], jnp.int32), jnp.array([-1, 0, 1], jnp.int32),
+                               jnp.int32(0), jnp.int32(0), jnp.int32(1))
+    assert p.tolist() == [0] and l.tolist() == [-1, 1, 1]
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 30])
+def test_move_apply_matches_the_reference_for_every_pair(n):
+    """Every (j, i) at once, vmapped and jitted (n = 30 takes the gathers)."""
+    perm, labels = _random(n, 1, seed=100 + n)
+    perm, labels = perm[0], labels[0]
+    labels[1:-1] = np.random.default_rng(n).choice([-1, 1], n) * (np.arange(n) % 3 != 0)
+    j, i = (x.ravel().astype(np.int32) for x in np.meshgrid(np.arange(n), np.arange(n)))
+    new = np.where(np.arange(j.size) % 2 == 0, 1, -1).astype(np.int32)
+    p2, l2 = jax.jit(jax.vmap(path_ops.move_apply, (None, None, 0, 0, 0)))(perm, labels, j, i, new)
+    p2, l2 = np.asarray(p2), np.asarray(l2)
+    for t in range(j.size):
+        rp, rm = _move_ref(perm, labels[1:-1], j[t], i[t], new[t])
+        assert p2[t].tolist() == rp and l2[t, 1:-1].tolist() == rm, (j[t], i[t])
+        assert l2[t, 0] == labels[0] and l2[t, -1] == labels[-1]
+
+
+# --- every registered move: invariants over random chromosomes and keys --------------
+
+SCENES = {"one": (1, lambda: _scene([(1.5, 0.0)])),
+          "robocup": (9, lambda: load_scenario("configs/scenarios/robocup_paper.toml")),
+          "grid30": (30, _grid30),
+          "cluttered30": (30, _cluttered30)}
+
 
 @pytest.fixture(scope="module")
 def scenes():
-    out = {1: _scene([(1.5, 0.0)]), 9: load_scenario("configs/scenarios/robocup_paper.toml"),
-           28: load_scenario("configs/scenarios/cluttered.toml")}  # n > 20: gathers
-    return {n: (sc, sc.search_arrays(np.float64, "full", with_legs=True).legs)
-            for n, sc in out.items()}
+    return {name: (lambda sc: (sc, _legs(sc)))(make()) for name, (_, make) in SCENES.items()}
 
 
-@pytest.mark.parametrize("n", [1, 9, 28])
-@pytest.mark.parametrize("name", sorted(path_ops.MOVES))
-def test_every_move_keeps_chromosomes_valid_and_does_what_it_says(scenes, name, n):
-    sc, legs = scenes[n]
-    assert sc.n == n
-    count = 200
-    perm, labels = _random(n, count, seed=n)
-    keys = jax.random.split(rng.key(11), count)
-    move = path_ops.MOVES[name]
+def _run(move, legs, perm, labels, seed):
+    keys = jax.random.split(rng.key(seed), len(perm))
     p2, l2 = jax.jit(jax.vmap(lambda k, p, l: move(k, p, l, legs)))(keys, perm, labels)
-    p2, l2 = np.asarray(p2), np.asarray(l2)
-    assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (count, 1)))
+    return np.asarray(p2), np.asarray(l2)
+
+
+def test_registry_holds_the_documented_moves():
+    assert set(path_ops.MOVES) >= {"flip", "drop", "insert", "shift", "repair", "mixed"}
+
+
+@pytest.mark.parametrize("scene", list(SCENES))
+@pytest.mark.parametrize("name", sorted(path_ops.MOVES))
+def test_every_move_keeps_chromosomes_valid_and_does_what_it_says(scenes, name, scene):
+    sc, legs = scenes[scene]
+    n = SCENES[scene][0]
+    assert sc.n == n
+    perm, labels = _random(n, COUNT, seed=n + len(scene))
+    p2, l2 = _run(path_ops.MOVES[name], legs, perm, labels, seed=11)
+    assert p2.shape == (COUNT, n) and l2.shape == (COUNT, n + 2)
+    assert p2.dtype == np.int32 and l2.dtype == np.int32
+    assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (COUNT, 1)))
     assert np.all(np.isin(l2, (-1, 0, 1))) and np.all(l2[:, [0, -1]] != 0)
-    changed = 0
-    for i in range(count):
-        before, after = _touched(perm[i], labels[i]), _touched(p2[i], l2[i])
-        ends_before, ends_after = labels[i, [0, -1]], l2[i, [0, -1]]
-        changed += (before != after) or not np.array_equal(ends_before, ends_after)
-        if name == "flip":  # exactly one touched circle reversed, nothing else
-            assert np.array_equal(p2[i], perm[i])
-            diff = np.flatnonzero(l2[i] != labels[i])
-            assert diff.size == 1 and l2[i, diff[0]] == -labels[i, diff[0]] != 0
-        elif name == "drop":
-            assert np.array_equal(p2[i], perm[i]) and np.array_equal(ends_after, ends_before)
-            if before:
-                assert len(after) == len(before) - 1 and all(t in before for t in after)
-                assert [t for t in before if t in after] == after
-            else:
-                assert after == before
-        elif name == "insert":
-            assert np.array_equal(ends_after, ends_before)
-            if len(before) < n:
-                assert len(after) == len(before) + 1
-                assert [t for t in after if t in before] == before  # order and labels kept
-            else:
-                assert after == before
-        elif name == "shift":
-            assert np.array_equal(ends_after, ends_before)
-            assert sorted(after) == sorted(before)
-        elif name == "repair":
-            assert np.array_equal(ends_after, ends_before)
-            assert len(after) in (len(before), len(before) + 1)
-    if n > 1:  # the moves move (at n = 1 most have nothing to act on)
-        assert changed > count // 5, changed
+    if name == "mixed":
+        kinds = {nm: 0 for nm in CHECKS}
+        for c in range(COUNT):
+            ok = [nm for nm, check in CHECKS.items()
+                  if check(perm[c], labels[c], p2[c], l2[c], legs)]
+            assert ok, (c, perm[c], labels[c], p2[c], l2[c])
+            for nm in ok:
+                kinds[nm] += 1
+        changed = np.sum(np.any(p2 != perm, 1) | np.any(l2 != labels, 1))
+        if n > 1:  # each kind of move shows up (a result may fit several), and most move
+            assert min(kinds.values()) >= COUNT // 20, kinds
+            assert changed > COUNT // 2, changed
+        else:  # flips always change something
+            assert changed >= COUNT // 10, changed
+        return
+    assert name in CHECKS, f"no check written for the move {name!r}"
+    check = CHECKS[name]
+    for c in range(COUNT):
+        assert check(perm[c], labels[c], p2[c], l2[c], legs), (c, perm[c], labels[c], p2[c], l2[c])
+    if name == "flip":
+        return  # _is_flip: exactly one non-zero label reversed, nothing else
+    if name == "repair":
+        kinds = [_repair_kind(perm[c], labels[c], p2[c], l2[c], legs) for c in range(COUNT)]
+        assert kinds.count("wrap") >= COUNT // 5, kinds.count("wrap")
+        if n == 1:  # touched: no leg blocked, an insert (a no-op); untouched: a wrap
+            assert kinds.count("insert") >= COUNT // 5
+            assert all((labels[c, 1] != 0) == (kinds[c] == "insert") for c in range(COUNT))
+    # the moves move: every chromosome with something to act on changes (drop, insert)
+    # or most do (shift and repair may put an obstacle back where it was)
+    changed = np.any(p2 != perm, 1) | np.any(l2 != labels, 1)
+    touched = np.count_nonzero(labels[:, 1:-1], axis=1)
+    if name == "drop":
+        assert np.array_equal(changed, touched > 0)
+    elif name == "insert":
+        assert np.array_equal(changed, touched < n)
+        assert np.array_equal(np.count_nonzero(l2[:, 1:-1], axis=1), np.minimum(touched + 1, n))
+    elif name == "shift":
+        assert not np.any(changed[touched == 0])
+        if n > 1:
+            assert changed.sum() > COUNT // 2
+    elif name == "repair" and n > 1:
+        assert changed.sum() > COUNT // 2
 
 
-def test_repair_wraps_a_blocking_obstacle_between_the_legs_circles(scenes):
-    """Worked example: the straight start-goal path runs through obstacle 0 at
-    (1.5, 0); the direct chromosome's only leg is blocked by it, so repair touches
-    it, in either direction, in both cases between the start and the goal."""
-    sc, legs = _scene([(1.5, 0.0), (1.5, 1.5)]), None
-    legs = sc.search_arrays(np.float64, "full", with_legs=True).legs
-    perm = jnp.array([1, 0], jnp.int32)
-    lab = jnp.array([1, 0, 0, -1], jnp.int32)  # start CW, goal CCW: the leg crosses (1.5, 0)
-    ids, nxt, blocked = path_ops.blocked_legs(perm, lab, legs)
-    assert blocked.tolist() == [True, False, False, False]
-    labels = set()
-    for s in range(40):
-        p, l = path_ops.repair(rng.key(s), perm, lab, legs)
-        assert _touched(p, l)[0][0] == 0 and len(_touched(p, l)) == 1
-        labels.add(_touched(p, l)[0][1])
-        ids, nxt, blocked = path_ops.blocked_legs(p, l, legs)
-    assert labels == {-1, 1}
+def test_the_checks_can_fail():
+    """The predicates above refuse the other moves' results (so they can catch a bug)."""
+    perm, lab = np.array([2, 0, 1]), np.array([1, 1, 0, -1, -1])
+    flipped = np.array([1, -1, 0, -1, -1])
+    dropped = np.array([1, 0, 0, -1, -1])
+    assert _is_flip(perm, lab, perm, flipped) and not _is_flip(perm, lab, perm, dropped)
+    assert _is_drop(perm, lab, perm, dropped) and not _is_drop(perm, lab, perm, flipped)
+    assert not _is_flip(perm, lab, perm, lab) and not _is_drop(perm, lab, perm, lab)
+    ins_p, ins_m = _move_ref(perm, lab[1:-1], 1, 0, 1)  # untouched obstacle 0 first, CW
+    ins_p, ins = np.array(ins_p), np.array([1, *ins_m, -1])
+    assert _is_insert(perm, lab, ins_p, ins) and not _is_shift(perm, lab, ins_p, ins)
+    sh_p, sh_m = _move_ref(perm, lab[1:-1], 2, 0, -1)  # touched obstacle 1 first, label kept
+    sh_p, sh = np.array(sh_p), np.array([1, *sh_m, -1])
+    assert _is_shift(perm, lab, sh_p, sh) and not _is_insert(perm, lab, sh_p, sh)
+    assert not _is_shift(perm, lab, sh_p, np.array([1, 1, 1, 0, -1]))  # label changed
+    assert not _is_insert(perm, lab, perm, np.array([-1, 1, 0, -1, -1]))  # start changed
 
 
-def test_wrap_blockers_leaves_no_blocked_leg_or_uses_n_steps():
-    sc = load_scenario("configs/scenarios/robocup_paper.toml")
-    legs = sc.search_arrays(np.float64, "full", with_legs=True).legs
-    perm, labels = _random(sc.n, 100, seed=5)
-    keys = jax.random.split(rng.key(3), 100)
+# --- repair and wrap_blockers: hand-built scenes ------------------------------------
+
+def _keys_apply(move, count, perm, labels, legs):
+    """``move`` on one chromosome under ``count`` keys (vmapped, jitted), as numpy."""
+    keys = jax.random.split(rng.key(count), count)
+    p, l = jax.jit(jax.vmap(lambda k: move(k, perm, labels, legs)))(keys)
+    return np.asarray(p), np.asarray(l)
+
+
+def test_repair_wraps_a_blocking_obstacle_between_the_legs_circles():
+    """The straight start-goal leg runs through obstacle 0 at (1.5, 0); obstacle 1 at
+    (1.5, 1.5) is clear of it. repair touches obstacle 0, in either direction, between
+    the start and the goal, whatever the permutation."""
+    sc = _scene([(1.5, 0.0), (1.5, 1.5)])
+    legs = _legs(sc)
+    for perm in ([1, 0], [0, 1]):
+        perm = jnp.array(perm, jnp.int32)
+        lab = jnp.array([1, 0, 0, -1], jnp.int32)  # start CW, goal CCW
+        _, _, blocked = path_ops.blocked_legs(perm, lab, legs)
+        assert blocked.tolist() == [True, False, False, False]
+        assert _blocked_pairs(perm, lab, legs.blocked) == [(1, 2)]
+        assert np.flatnonzero(legs.blockers[1, 2]).tolist() == [0]
+        seen = set()
+        for p, l in zip(*_keys_apply(path_ops.repair, 40, perm, lab, legs)):
+            assert _touched(p, l) in ([(0, 1)], [(0, -1)])
+            assert l[0] == 1 and l[-1] == -1 and sorted(p.tolist()) == [0, 1]
+            assert p.tolist()[0] == 0  # moved to just after the start circle
+            seen.add(_touched(p, l)[0][1])
+        assert seen == {-1, 1}
+
+
+def test_repair_wraps_between_the_two_obstacles_of_a_blocked_leg():
+    """Start CW, obstacle 0 at (1, 1) CW, obstacle 2 at (3, 1) CW, goal: the leg
+    0 -> 2 (along y = 1.18) runs through obstacle 1 at (2, 1.1); repair puts 1 between
+    0 and 2 (or inserts nothing else: the other legs are clear)."""
+    sc = _scene([(1.0, 1.0), (2.0, 1.1), (3.0, 1.0)], goal=(4.0, 0.0, 0.0))
+    legs = _legs(sc)
+    perm = jnp.array([1, 0, 2], jnp.int32)  # 1 untouched, before the leg
+    lab = jnp.array([1, 0, 1, 1, 1], jnp.int32)
+    assert _blocked_pairs(perm, lab, legs.blocked) == [(4, 8)]
+    assert np.flatnonzero(legs.blockers[4, 8]).tolist() == [1]
+    seen = set()
+    for p, l in zip(*_keys_apply(path_ops.repair, 30, perm, lab, legs)):
+        assert p.tolist() == [0, 1, 2]
+        t = _touched(p, l)
+        assert [o for o, _ in t] == [0, 1, 2] and t[0] == (0, 1) and t[2] == (2, 1)
+        seen.add(t[1][1])
+    assert seen == {-1, 1}
+
+
+def _line_scene(obstacles):
+    """Start (0, 0) heading 0, goal (2, 0) heading 0."""
+    return _scene(obstacles, goal=(2.0, 0.0, 0.0), name="line")
+
+
+def test_wrap_blockers_touches_the_obstacle_on_the_straight_line():
+    sc = _line_scene([(1.0, 0.0), (1.0, 2.0)])  # obstacle 1 far off the line
+    legs = _legs(sc)
+    # every direct leg (each start circle to each goal circle) runs through obstacle 0
+    for a in (0, 1):
+        for c in (2, 3):
+            assert legs.blocked[a, c] and np.flatnonzero(legs.blockers[a, c]).tolist() == [0]
+    perm = np.array([[0, 1], [1, 0]] * 8, np.int32)
+    ends = np.array([[s, g] for s in (-1, 1) for g in (-1, 1)] * 4, np.int32)
+    labels = np.concatenate([ends[:, :1], np.tile([[1, -1]], (16, 1)), ends[:, 1:]], 1)
+    keys = jax.random.split(rng.key(5), 16)
     p2, l2 = jax.jit(jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs)))(
         keys, perm, labels)
-    for i in range(100):
-        assert np.array_equal(np.asarray(l2[i, [0, -1]]), labels[i, [0, -1]])  # ends kept
-        _, _, blocked = path_ops.blocked_legs(p2[i], l2[i], legs)
-        touched = np.count_nonzero(np.asarray(l2[i, 1:-1]))
-        assert touched >= 1  # every direct path of this scene is blocked
-        assert not np.any(np.asarray(blocked)) or touched == sc.n
+    p2, l2 = np.asarray(p2), np.asarray(l2)
+    seen = set()
+    for c in range(16):
+        t = _touched(p2[c], l2[c])
+        assert len(t) == 1 and t[0][0] == 0, t  # obstacle 0, nothing else
+        seen.add(t[0][1])
+        assert np.array_equal(l2[c, [0, -1]], ends[c])
+        assert sorted(p2[c]) == [0, 1]
+        assert _blocked_pairs(p2[c], l2[c], legs.blocked) == []
+    assert seen == {-1, 1}
 
 
 def test_wrap_blockers_leaves_a_clear_direct_path_alone():
-    sc = _scene([(1.5, 2.0)])  # far off the straight line
-    legs = sc.search_arrays(np.float64, "full", with_legs=True).legs
-    perm, lab = jnp.array([0], jnp.int32), jnp.array([1, 1, -1], jnp.int32)
-    p, l = path_ops.wrap_blockers(rng.key(0), perm, lab, legs)
-    assert l.tolist() == [1, 0, -1]  # the obstacle label is cleared, nothing wrapped
+    sc = _line_scene([(1.0, 2.0)])  # far off the straight line
+    legs = _legs(sc)
+    assert not legs.blocked[:4, :4].any()
+    for s, g, mid in ((1, -1, 1), (-1, 1, -1), (1, 1, 0)):
+        lab = jnp.array([s, mid, g], jnp.int32)
+        p, l = path_ops.wrap_blockers(rng.key(s + 3 * g), jnp.array([0], jnp.int32), lab, legs)
+        assert p.tolist() == [0] and l.tolist() == [s, 0, g]  # cleared, nothing wrapped
+
+
+@pytest.mark.parametrize("make", [lambda: load_scenario("configs/scenarios/robocup_paper.toml"),
+                                  _grid30], ids=["robocup", "grid30"])
+def test_wrap_blockers_leaves_no_blocked_leg_or_uses_n_steps(make):
+    """On these scenes n steps always suffice: no leg between consecutive touched
+    circles is blocked (legs.blocked looked up here, not through blocked_legs), unless
+    every obstacle is touched."""
+    sc = make()
+    legs, n = _legs(sc), sc.n
+    perm, labels = _random(n, 100, seed=5)
+    p2, l2 = _run(path_ops.wrap_blockers, legs, perm, labels, seed=3)
+    assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (100, 1)))
+    assert np.array_equal(l2[:, [0, -1]], labels[:, [0, -1]])  # ends kept
+    assert np.all(np.isin(l2[:, 1:-1], (-1, 0, 1)))
+    for c in range(100):
+        direct = legs.blocked[(1 + labels[c, 0]) // 2, 2 + (1 + labels[c, -1]) // 2]
+        touched = np.count_nonzero(l2[c, 1:-1])
+        assert (touched > 0) == direct  # a blocked direct leg gets something wrapped
+        assert _blocked_pairs(p2[c], l2[c], legs.blocked) == [] or touched == n
+    assert np.count_nonzero(l2[:, 1:-1], axis=1).mean() >= 2  # real paths, not direct ones
+
+
+def test_wrap_blockers_on_overlapping_circles_wraps_when_the_direct_leg_is_blocked():
+    """Overlapping model circles make missing tangents whose stand-ins cross their own
+    circles, so blocked legs may remain after n steps; still, a blocked direct leg
+    always gets an obstacle wrapped, and a clear one none."""
+    sc = load_scenario("configs/scenarios/overlapping.toml")
+    legs, n = _legs(sc), sc.n
+    perm, labels = _random(n, 100, seed=6)
+    p2, l2 = _run(path_ops.wrap_blockers, legs, perm, labels, seed=4)
+    assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (100, 1)))
+    assert np.array_equal(l2[:, [0, -1]], labels[:, [0, -1]])
+    for c in range(100):
+        direct = legs.blocked[(1 + labels[c, 0]) // 2, 2 + (1 + labels[c, -1]) // 2]
+        assert (np.count_nonzero(l2[c, 1:-1]) > 0) == direct
 
 
 # --- legs: an independent check ----------------------------------------------------
 
-def test_blockers_match_a_point_segment_distance_check():
-    sc = load_scenario("configs/scenarios/robocup_paper.toml")
+def _segment_distance(p1, p2, q):
+    """Distance from points q to segments p1-p2 (numpy, broadcasting, last axis xy)."""
+    d = p2 - p1
+    dd = np.sum(d * d, -1)
+    t = np.clip(np.sum((q - p1) * d, -1) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    return np.linalg.norm(p1 + t[..., None] * d - q, axis=-1)
+
+
+@pytest.mark.parametrize("make", [
+    lambda: _scene([(1.0, 0.0), (1.2, 0.25, 0.05), (2.0, -0.3, 0.15), (2.5, 1.0)]),
+    lambda: load_scenario("configs/scenarios/robocup_paper.toml")], ids=["hand", "robocup"])
+def test_blockers_match_a_point_segment_distance_check(make):
+    sc = make()
     sa = sc.search_arrays(np.float64, "full", with_legs=True)
     tb, L = sa.tangents, sa.legs
+    n, C = sc.n, 2 * sc.n + 4
+    assert L.blockers.shape == (C, C, n) and L.blocked.shape == (C, C)
+    assert L.blockers.dtype == bool and L.blocked.dtype == bool
     p1 = np.stack([tb.p1x, tb.p1y], -1)[:, :, None, :]
     p2 = np.stack([tb.p2x, tb.p2y], -1)[:, :, None, :]
-    q = np.asarray(sc.centres)[None, None]
-    d = p2 - p1
-    t = np.clip(np.sum((q - p1) * d, -1) / np.maximum(np.sum(d * d, -1), 1e-300), 0, 1)
-    dist = np.linalg.norm(p1 + t[..., None] * d - q, axis=-1)
-    expect = dist < np.asarray(sc.model_radii)[None, None] - 1e-7
+    q = np.asarray(sc.centres, np.float64).reshape(n, 2)[None, None]
+    expect = _segment_distance(p1, p2, q) < np.asarray(sc.model_radii)[None, None] - 1e-7
     assert np.array_equal(np.asarray(L.blockers), expect)
     assert np.array_equal(np.asarray(L.blocked), expect.any(-1))
-    assert 0 < expect.mean() < 0.5  # a real mix of clear and blocked legs
+    assert 0.05 < expect.any(-1).mean() < 0.95  # a real mix of clear and blocked legs
+    again = legs_mod.build(tb, sc.centres, sc.model_radii)  # the same from build itself
+    assert np.array_equal(again.blockers, L.blockers) and np.array_equal(again.blocked, L.blocked)
+
+
+def test_blockers_worked_example():
+    """Start (0, 0) and goal (2, 0), both heading 0, model radius 0.18: the outer
+    tangent start CW -> goal CW runs along y = 0 through obstacle 0 at (1, 0), passes
+    obstacle 1 at (1, 0.3) 0.3 m away (> 0.18), and obstacle 2 at (1, 0.18) exactly
+    at its model radius (touching, not blocking)."""
+    sc = _line_scene([(1.0, 0.0), (1.0, 0.3), (1.0, 0.18)])
+    L = _legs(sc)
+    assert L.blockers[1, 3].tolist() == [True, False, False]
+    assert L.blocked[1, 3]
+    # start CCW -> goal CCW (along y = 0 too): the same
+    assert L.blockers[0, 2].tolist() == [True, False, False]
 
 
 def test_legs_are_built_once_per_scenario_and_only_on_request():
@@ -174,23 +522,30 @@ def test_legs_are_built_once_per_scenario_and_only_on_request():
     assert isinstance(a, legs_mod.Legs) and a.blockers.shape == (22, 22, 9)
 
 
+def test_n_above_onehot_limit_takes_the_gathers():
+    assert 9 <= perm_ops.ONEHOT_MAX_N < 30  # the n = 30 scenes test the gather branch
+
+
 # --- settings --------------------------------------------------------------------
 
 @pytest.mark.parametrize("key, value, message", [
-    ("path_mutation", "nope", "ga.path_mutation: must be one of none, flip"),
-    ("restart_after", -1, "ga.restart_after: must be >= 0"),
-    ("seeding", 1.5, "ga.seeding: must be a probability in"),
-    ("pm_path", float("nan"), "ga.pm_path: must be a probability in"),
+    ("path_mutation", "nope", "path_mutation: must be one of none, flip"),
+    ("restart_after", -1, "restart_after: must be >= 0"),
+    ("seeding", 1.5, "seeding: must be a probability in"),
+    ("pm_path", float("nan"), "pm_path: must be a probability in"),
 ])
 def test_bad_path_settings_are_refused(key, value, message):
     with pytest.raises(ConfigError, match=message):
+        GASettings(**{key: value})
+    with pytest.raises(ConfigError, match="x.toml: ga." + message):
         GASettings.from_mapping({key: value}, "x.toml")
 
 
-def test_uses_legs():
-    assert not GASettings().uses_legs
-    assert GASettings(path_mutation="flip").uses_legs and GASettings(seeding=0.5).uses_legs
-    assert not GASettings(restart_after=4).uses_legs
+@pytest.mark.parametrize("path_mutation", ["none"] + sorted(path_ops.MOVES))
+@pytest.mark.parametrize("seeding", [0.0, 0.3, 1.0])
+def test_uses_legs_iff_path_moves_or_seeding(path_mutation, seeding):
+    s = GASettings(path_mutation=path_mutation, seeding=seeding, restart_after=4)
+    assert s.uses_legs is (path_mutation != "none" or seeding > 0)
 
 
 def test_register_move():
@@ -200,7 +555,10 @@ def test_register_move():
     path_ops.register_move("keep_for_test", keep)
     try:
         assert GASettings(path_mutation="keep_for_test").path_mutation == "keep_for_test"
+        assert GASettings(path_mutation="keep_for_test").uses_legs
         with pytest.raises(ValueError, match="already registered"):
             path_ops.register_move("keep_for_test", lambda *a: a[1:3])
     finally:
         del path_ops.MOVES["keep_for_test"]
+    with pytest.raises(ConfigError, match="path_mutation"):
+        GASettings(path_mutation="keep_for_test")
