@@ -16,7 +16,7 @@ ROBOCUP = "configs/scenarios/robocup_paper.toml"
 # batches of 6 runs, so the single process and both shares compile the same shapes
 # (process 0 finds the single process's programs on disk; JAX writes and reads
 # them from process 0 only).
-JOB = [ROBOCUP, "--runs", "25", "--first-run", "3", "--seed", "4", "--generations", "5",
+JOB = [ROBOCUP, "--preset", "paper", "--runs", "25", "--first-run", "3", "--seed", "4", "--generations", "5",
        "--population", "12", "--chunk", "6", "--json", "--quiet"]
 TIMINGS = {("summary", "compile_s"), ("summary", "search_s"), ("summary", "evaluations_per_s"),
            ("optimum", "seconds")}
