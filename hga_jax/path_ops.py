@@ -35,6 +35,7 @@ import jax
 import jax.numpy as jnp
 from jax import Array
 
+from .decode import position_circles
 from .perm_ops import _take, int_from_words, register
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
@@ -104,10 +105,10 @@ def shift(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Arr
 
 
 def path_circles(perm: Array, labels: Array) -> tuple[Array, Array]:
-    """Circle ids (:mod:`hga_jax.tangents`) of the positions (n + 2,) and touched mask."""
-    side = (1 + labels) // 2  # 0 for CCW, 1 for CW
-    obstacle_ids = 4 + 2 * perm + (1 - side[1:-1])
-    return jnp.concatenate([side[:1], obstacle_ids, 2 + side[-1:]]), labels != 0
+    """Circle ids (:mod:`hga_jax.tangents`) of the positions (n + 2,) and touched mask:
+    :func:`hga_jax.decode.position_circles` for one chromosome."""
+    ids, touched = position_circles(perm[None], labels[None])
+    return ids[:, 0], touched[:, 0]
 
 
 def blocked_legs(perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]:
