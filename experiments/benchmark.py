@@ -138,7 +138,8 @@ def memory_case(runs: int) -> dict[str, Any]:
     root = os.path.dirname(os.path.dirname(os.path.abspath(hga_jax.__file__)))
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(
         [root] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
-    proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--child-runs", str(runs)],
+    proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--child-runs", str(runs),
+                           "--cpu-devices", str(jax.local_device_count())],
                           stdout=subprocess.PIPE, text=True, env=env)  # stderr: progress
     if proc.returncode != 0:
         raise RuntimeError(f"the memory case of {runs:,} runs failed (its messages are above)")
@@ -247,6 +248,8 @@ def parse(argv=None) -> argparse.Namespace:
     p.add_argument("--million", action="store_true",
                    help=f"also {MILLION:,} runs in chunks of {MILLION_CHUNK:,} (progress shown)")
     p.add_argument("--deap-runs", type=int, help="DEAP runs timed (20)")
+    p.add_argument("--cpu-devices", type=int, metavar="N", help="CPU devices hga-jax spreads "
+                   "its runs over (default: one per core); DEAP runs on one core")
     p.add_argument("--out", default=os.path.join("results", "benchmark", "benchmark.json"))
     p.add_argument("--child-runs", type=int, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
@@ -264,13 +267,19 @@ def parse(argv=None) -> argparse.Namespace:
 
 def main(argv=None) -> int:
     args = parse(argv)
+    try:
+        hga_jax.use_cpu_cores(args.cpu_devices, source="--cpu-devices")  # before any JAX work
+    except hga_jax.ConfigError as e:
+        print(f"benchmark.py: error: {e}", file=sys.stderr)
+        return 2
     if args.child_runs:
         child(args.child_runs)
         return 0
     report: dict[str, Any] = {"machine": machine(), "settings": dataclasses.asdict(GASettings()),
                               "quick": args.quick, "calibration_start_s": calibration()}
     print(f"hga-jax {hga_jax.__version__}, JAX {jax.__version__} on {report['machine']['cpu']} "
-          f"({report['machine']['cores']} cores); calibration (10^6 pure-Python multiply-adds): "
+          f"({report['machine']['cores']} cores, hga-jax on {jax.local_device_count()} CPU "
+          f"device(s)); calibration (10^6 pure-Python multiply-adds): "
           f"{report['calibration_start_s']:.4f} s", flush=True)
     cases: list[dict[str, Any]] = []
     if "runs" in args.only or "sizes" in args.only:
@@ -313,7 +322,8 @@ def main(argv=None) -> int:
             report["ratio"] = r = ratio(cases, deap)
             if r is not None:
                 print(f"hga-jax: {r['hga_jax_per_run_s'] * 1e3:.3f} ms per run (search, "
-                      f"R = {r['hga_jax_runs']:,}, float32): DEAP takes "
+                      f"R = {r['hga_jax_runs']:,}, float32, {jax.local_device_count()} CPU "
+                      f"device(s); DEAP on one core): DEAP takes "
                       f"{r['deap_over_hga_jax']:,.0f}x as long per run")
     report["calibration_end_s"] = calibration()
     print(f"\ncalibration at the end: {report['calibration_end_s']:.4f} s")

@@ -3,6 +3,7 @@
 Notebook use::
 
     import hga_jax as hg
+    hg.use_cpu_cores()  # first: one JAX device per CPU core (faster; same results)
     sc = hg.load_scenario("configs/scenarios/robocup_paper.toml")
     res = hg.run_many(sc, "recommended", runs=100, seed=1)  # or "paper", or a GASettings
     print(hg.run_summary(res))
@@ -15,6 +16,7 @@ __version__ = "0.3.0"
 
 from . import distributed  # hga_jax.distributed.initialize: one job over several processes
 from .config import load_scenario, scenario_from_dict
+from .devices import use_cpu_cores
 from .errors import ConfigError, Interrupted, ModelMismatchError
 from .exact import solve
 from .path import Path, evaluate_path, from_chromosome
@@ -28,7 +30,7 @@ from .settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset
 __all__ = [
     "ConfigError", "Field", "GASettings", "Interrupted", "ModelMismatchError", "PAPER", "PRESETS",
     "Path", "RECOMMENDED", "RunsResult", "Scenario", "preset",
-    "enable_compilation_cache",
+    "enable_compilation_cache", "use_cpu_cores",
     "evaluate_path", "from_chromosome", "load_scenario", "plot_convergence", "plot_path",
     "run_many", "run_summary", "save_figure", "scenario_from_dict", "settings_for", "solve",
     "write_run",

@@ -32,7 +32,7 @@ import sys
 import tomllib
 from typing import Any, Callable, Iterator, Sequence
 
-from . import __version__
+from . import __version__, devices
 from .config import load_scenario
 from .errors import ConfigError, Interrupted, ModelMismatchError
 from .settings import (COLLISIONS, PAPER, PATH_MUTATIONS, PERM_CROSSOVERS, PERM_MUTATIONS,
@@ -104,6 +104,7 @@ def _parser() -> argparse.ArgumentParser:
                             f"paper: {getattr(PAPER, key)})")
     run.add_argument("--chunk", type=int, metavar="N", help="runs per compiled batch (default: "
                      "about 50,000 chromosomes per batch, fewer if memory is short)")
+    devices.add_option(run)
     run.add_argument("--no-exact", action="store_true",
                      help="skip the exact optimum and the gaps to it")
     _output_args(run, "results/<scenario file name>")
@@ -251,7 +252,8 @@ def _cmd_run(args) -> int:
         args.coordinator, args.num_processes, args.process_id))
     from . import distributed
 
-    if joined:  # before anything starts JAX's runtime
+    devices.from_option(args)  # before anything starts JAX's runtime
+    if joined:
         distributed.initialize(args.coordinator, args.num_processes, args.process_id,
                                source="command line")
     import jax

@@ -118,7 +118,8 @@ def run_summary(res: RunsResult) -> str:
     if st.collision == "paper":
         lines.append("note: " + _full_test_note(sc, res.best))
     rate = s["evaluations_per_s"]
-    lines.append(f"time: compile {res.compile_s:.2f} s, search {res.search_s:.2f} s "
+    on = f" on {count(res.devices, 'device')}" if res.devices > 1 else ""
+    lines.append(f"time: compile {res.compile_s:.2f} s, search {res.search_s:.2f} s{on} "
                  f"({count(s['evaluations'], 'evaluation')}"
                  + (f", {rate:,.0f}/s" if rate else "") + f"), finish {res.finish_s:.2f} s")
     return "\n".join(lines)

@@ -48,6 +48,7 @@ class RunsResult:
     finish_s: float = 0.0
     evaluations: int = 0
     preset: str | None = None  # the preset the settings were built on (None: not said)
+    devices: int = 1  # devices the search was spread over (all processes')
 
     @property
     def feasible(self) -> np.ndarray:
@@ -104,6 +105,7 @@ class RunsResult:
             "median_generation_found_best": _median(self.generation[found]),
             "compile_s": self.compile_s,
             "search_s": self.search_s,
+            "devices": self.devices,
             "evaluations": self.evaluations,
             "evaluations_per_s": self.evaluations / self.search_s if self.search_s else None,
         }

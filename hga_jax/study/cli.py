@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import argparse
 
+from .. import devices
+
 
 def add_parser(sub) -> None:
     p = sub.add_parser("study", help="run or resume a study (grid of settings over scenes)")
@@ -18,11 +20,13 @@ def _options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs "
                    "on disk")
+    devices.add_option(p)
 
 
 def run(args: argparse.Namespace) -> int:
     from .run import run_study
 
+    devices.from_option(args)  # before anything starts JAX's runtime
     if not args.no_cache:
         from ..runner import enable_compilation_cache
 
