@@ -375,9 +375,22 @@ def _generation(key, state: GAState, g, sa: ScenarioArrays, settings: GASettings
     later ones vary ``state``; one draw and one evaluation serve both."""
     n = sa.centres.shape[0]
     words = _draw(key, n, settings)
-    perm, labels = jax.lax.cond(g == 0, lambda w: _fresh(w, n, settings, sa),
-                                lambda w: _vary_or_restart(w, state, g, sa, settings)[:2], words)
+    # The children of the old population (none in generation 0: its state is blank),
+    # then, in generation 0 and where restarts are considered, fresh chromosomes for
+    # the runs that start anew: one copy of each in the program (tracing the fresh
+    # population in two branches made the recommended preset compile 1 s longer).
+    perm, labels = jax.lax.cond(g == 0, lambda w: (state.pop.perm, state.pop.labels),
+                                lambda w: _vary(w, state.pop, settings, sa), words)
     restart = (g == 0) | _stalled(state, g, settings)
+    anew = g == 0
+    if settings.restart_after:
+        anew = anew | (g % settings.restart_after == 0)
+
+    def fresh(pl):
+        fp, fl = _fresh(words, n, settings, sa)
+        return jnp.where(restart, fp, pl[0]), jnp.where(restart, fl, pl[1])
+
+    perm, labels = jax.lax.cond(anew, fresh, lambda pl: pl, (perm, labels))
     pop = _evaluated(sa, perm, labels, settings)
     pop = _kept(pop, state.pop, restart, settings)
     before = jax.tree.map(lambda a, b: jnp.where(g > 0, a, b), state.best, _unset(pop))
