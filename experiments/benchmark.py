@@ -18,6 +18,10 @@ What it measures (the paper's GA settings: population 50, 50 generations):
   fitness from a pure-Python decoder) on ``robocup_paper``, median wall time per
   run, and the ratio to hga-jax's search time per run at R = 10,000 (float32).
 
+hga-jax spreads its runs over one JAX device per CPU core (``--cpu-devices N`` for
+another count; the memory cases' processes get the same count), the default of
+``hga-jax run``; the DEAP version runs on one core.
+
 A fixed pure-Python loop (``calibration.py``) is timed beside every figure: the
 machine is shared and its speed varies; compare figures taken with similar
 calibration times.
@@ -26,7 +30,8 @@ Usage (from the repository root)::
 
     python3 experiments/benchmark.py [--quick] [--only runs sizes memory deap]
         [--runs 1 100 1000 10000] [--sizes 25 50 100] [--precisions float32 float64]
-        [--repeats 3] [--deap-runs 20] [--million] [--out results/benchmark/benchmark.json]
+        [--repeats 3] [--deap-runs 20] [--million] [--cpu-devices N]
+        [--out results/benchmark/benchmark.json]
 
 ``--quick`` is a smoke run of every part (R = 1 and 100, n = 25 with 100 runs, one
 repeat, memory of 1,000 runs, 2 DEAP runs). The DEAP part needs ``deap`` (the
