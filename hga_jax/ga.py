@@ -294,8 +294,9 @@ def _elitist(pop: Population, old: Population, settings: GASettings) -> Populati
     if not settings.elites:
         return pop
     e = settings.elites
-    elite = jnp.argsort(-old.fitness)[:e]
-    worst = jnp.argsort(pop.fitness)[:e]
+    # top_k breaks ties by the lower index, as the stable argsort it replaced did.
+    elite = jax.lax.top_k(old.fitness, e)[1]
+    worst = jax.lax.top_k(-pop.fitness, e)[1]
     return jax.tree.map(lambda new, prev: new.at[worst].set(prev[elite]), pop, old)
 
 
