@@ -243,6 +243,19 @@ def test_random_permutation(n):
         assert np.bincount(perms[:, 0], minlength=n).max() < 25
 
 
+@pytest.mark.parametrize("n", [1, 2, 9, po.RANK_MAX_N, po.RANK_MAX_N + 1, 40])
+def test_permutation_from_words_is_the_stable_argsort(n):
+    """Ranked by comparisons (n <= RANK_MAX_N) or sorted, the permutation is numpy's
+    stable argsort of the words, ties (forced here, and words of few values) included."""
+    rng = np.random.default_rng(n)
+    words = rng.integers(0, 2**32, size=(300, n), dtype=np.uint32)
+    words[:100, n // 2] = words[:100, 0]  # a tie in each of the first 100
+    words[100:200] = rng.integers(0, 3, size=(100, n), dtype=np.uint32)  # many ties
+    got = np.asarray(jax.jit(po.permutation_from_words)(words))
+    assert got.dtype == np.int32
+    np.testing.assert_array_equal(got, np.argsort(words, axis=-1, kind="stable"))
+
+
 def test_every_segment_exhaustively():
     n = 9
     pairs = np.array(list(itertools.combinations(range(n + 1), 2)), np.int32)
