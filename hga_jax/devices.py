@@ -15,6 +15,7 @@ platforms' devices (a GPU stays one device). Host code.
 """
 from __future__ import annotations
 
+import math
 import os
 
 import jax
@@ -24,13 +25,37 @@ from .errors import ConfigError
 _FLAG = "xla_force_host_platform_device_count"
 
 
+_QUOTAS = (("/sys/fs/cgroup/cpu.max", None),  # cgroup v2: "QUOTA PERIOD" or "max PERIOD"
+           ("/sys/fs/cgroup/cpu/cpu.cfs_quota_us", "/sys/fs/cgroup/cpu/cpu.cfs_period_us"))
+
+
 def cores() -> int:
-    """CPU cores this process may run on (its affinity mask, e.g. what SLURM gave the
-    task; all of the machine's where the mask is unknown)."""
+    """CPU cores this process may run on: its affinity mask (e.g. what SLURM gave the
+    task; all of the machine's where the mask is unknown), fewer where a container's
+    CPU quota (cgroup ``cpu.max``, or ``cpu.cfs_quota_us`` in cgroup v1) allows less."""
     try:
-        return len(os.sched_getaffinity(0))
+        count = len(os.sched_getaffinity(0))
     except (AttributeError, OSError):
-        return os.cpu_count() or 1
+        count = os.cpu_count() or 1
+    quota = cpu_quota()
+    return max(1, min(count, math.ceil(quota))) if quota else count
+
+
+def cpu_quota(paths=_QUOTAS) -> float | None:
+    """The container's CPU quota in cores (quota / period), None where there is none."""
+    for first, second in paths:
+        try:
+            with open(first) as fh:
+                words = fh.read().split()
+            if second is not None:
+                with open(second) as fh:
+                    words = words[:1] + fh.read().split()[:1]
+            quota, period = float(words[0]), float(words[1])
+        except (OSError, ValueError, IndexError):  # absent, "max" or unreadable
+            continue
+        if quota > 0 and period > 0:
+            return quota / period
+    return None
 
 
 def use_cpu_cores(count: int | None = None, *, source: str = "use_cpu_cores") -> bool:

@@ -1,11 +1,13 @@
 """One JAX device per CPU core (hga_jax.devices, --cpu-devices): counts, refusals, same runs."""
 import json
+import math
 import os
 import subprocess
 import sys
 
 import pytest
 
+from hga_jax import devices
 from hga_jax.cli import main
 from hga_jax.devices import cores, use_cpu_cores
 from hga_jax.errors import ConfigError
@@ -37,8 +39,35 @@ def _fresh(args, xla_flags=""):
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
-def test_cores_is_this_process_s_affinity():
-    assert cores() == len(os.sched_getaffinity(0)) >= 1
+def test_cores_is_this_process_s_affinity_within_its_quota():
+    quota = devices.cpu_quota()
+    mask = len(os.sched_getaffinity(0))
+    assert cores() == (max(1, min(mask, math.ceil(quota))) if quota else mask) >= 1
+
+
+@pytest.mark.parametrize("files, quota", [
+    ({"cpu.max": "150000 100000\n"}, 1.5),  # cgroup v2: 1.5 cores
+    ({"cpu.max": "max 100000\n"}, None),  # no limit
+    ({"quota": "50000\n", "period": "100000\n"}, 0.5),  # cgroup v1
+    ({"quota": "-1\n", "period": "100000\n"}, None),  # v1, no limit
+    ({"cpu.max": "garbage\n"}, None),
+    ({}, None),  # no cgroup files at all
+])
+def test_cpu_quota_of_a_container(tmp_path, files, quota):
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    paths = ((str(tmp_path / "cpu.max"), None), (str(tmp_path / "quota"), str(tmp_path / "period")))
+    assert devices.cpu_quota(paths) == quota
+
+
+def test_cores_are_capped_by_the_quota(monkeypatch):
+    monkeypatch.setattr(devices.os, "sched_getaffinity", lambda pid: set(range(64)))
+    monkeypatch.setattr(devices, "cpu_quota", lambda: 2.5)
+    assert cores() == 3  # a container allowed 2.5 of 64 cores: 3 devices
+    monkeypatch.setattr(devices, "cpu_quota", lambda: 0.2)
+    assert cores() == 1
+    monkeypatch.setattr(devices, "cpu_quota", lambda: None)
+    assert cores() == 64
 
 
 @pytest.mark.parametrize("args, flags, first, devices", [
