@@ -378,8 +378,8 @@ def _generation(key, state: GAState, g, sa: ScenarioArrays, settings: GASettings
     words = _draw(key, n, settings)
     # The children of the old population (none in generation 0: its state is blank),
     # then, in generation 0 and where restarts are considered, fresh chromosomes for
-    # the runs that start anew: one copy of each in the program (tracing the fresh
-    # population in two branches made the recommended preset compile 1 s longer).
+    # the runs that start anew: one copy of each in the program (the fresh population
+    # traced in two branches made the recommended preset compile 0.2 s longer).
     perm, labels = jax.lax.cond(g == 0, lambda w: (state.pop.perm, state.pop.labels),
                                 lambda w: _vary(w, state.pop, settings, sa), words)
     restart = (g == 0) | _stalled(state, g, settings)
