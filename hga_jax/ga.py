@@ -264,20 +264,27 @@ def _stalled(state: GAState, g, settings: GASettings):
     return (g > 0) & (g % r == 0) & (state.best.generation <= g - r)
 
 
-def _vary_or_restart(words, state: GAState, g, sa, settings: GASettings):
-    """The children of generation ``g >= 1`` and whether they are a restart. Restarts
-    are only considered every ``restart_after`` generations (``g`` is the same for
-    every run of a batch, so the other generations skip building new populations)."""
+def _children(words, state: GAState, g, sa, settings: GASettings):
+    """The chromosomes of generation ``g`` and whether each run starts anew: the
+    children of ``state``'s population (none in generation 0, whose state is
+    blank), then, in generation 0 and every ``restart_after`` generations (``g``
+    is the same for every run of a batch, so other generations skip it), fresh
+    chromosomes for the runs that restart. One copy of each in the program (the
+    fresh population traced in two branches made the recommended preset compile
+    0.2 s longer)."""
     n = state.pop.perm.shape[-1]
-    perm, labels = _vary(words, state.pop, settings, sa)
-    restart = _stalled(state, g, settings)
+    perm, labels = jax.lax.cond(g == 0, lambda w: (state.pop.perm, state.pop.labels),
+                                lambda w: _vary(w, state.pop, settings, sa), words)
+    restart = (g == 0) | _stalled(state, g, settings)
+    anew = g == 0
     if settings.restart_after:
-        def fresh(pl):
-            fp, fl = _fresh(words, n, settings, sa)
-            return jnp.where(restart, fp, pl[0]), jnp.where(restart, fl, pl[1])
+        anew = anew | (g % settings.restart_after == 0)
 
-        perm, labels = jax.lax.cond(g % settings.restart_after == 0, fresh, lambda pl: pl,
-                                    (perm, labels))
+    def fresh(pl):
+        fp, fl = _fresh(words, n, settings, sa)
+        return jnp.where(restart, fp, pl[0]), jnp.where(restart, fl, pl[1])
+
+    perm, labels = jax.lax.cond(anew, fresh, lambda pl: pl, (perm, labels))
     return perm, labels, restart
 
 
@@ -311,13 +318,8 @@ def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
 @_fixed_stream
 def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
     """One generation after the first, from its key: select, vary both modules,
-    evaluate, keep elites, track the best."""
-    words = _draw(key, sa.centres.shape[0], settings)
-    perm, labels, restart = _vary_or_restart(words, state, generation, sa, settings)
-    pop = _evaluated(sa, perm, labels, settings)
-    pop = _kept(pop, state.pop, restart, settings)
-    best = _update_best(state.best, pop, generation, settings)
-    return GAState(pop, best), _record(pop, best)
+    evaluate, keep elites, track the best (the generation of :func:`generations`)."""
+    return _generation(key, state, generation, sa, settings)
 
 
 @_fixed_stream
@@ -374,24 +376,8 @@ def blank(sa: ScenarioArrays, settings: GASettings) -> GAState:
 def _generation(key, state: GAState, g, sa: ScenarioArrays, settings: GASettings):
     """Generation ``g`` (traced) of a run from its key: 0 draws the initial population,
     later ones vary ``state``; one draw and one evaluation serve both."""
-    n = sa.centres.shape[0]
-    words = _draw(key, n, settings)
-    # The children of the old population (none in generation 0: its state is blank),
-    # then, in generation 0 and where restarts are considered, fresh chromosomes for
-    # the runs that start anew: one copy of each in the program (the fresh population
-    # traced in two branches made the recommended preset compile 0.2 s longer).
-    perm, labels = jax.lax.cond(g == 0, lambda w: (state.pop.perm, state.pop.labels),
-                                lambda w: _vary(w, state.pop, settings, sa), words)
-    restart = (g == 0) | _stalled(state, g, settings)
-    anew = g == 0
-    if settings.restart_after:
-        anew = anew | (g % settings.restart_after == 0)
-
-    def fresh(pl):
-        fp, fl = _fresh(words, n, settings, sa)
-        return jnp.where(restart, fp, pl[0]), jnp.where(restart, fl, pl[1])
-
-    perm, labels = jax.lax.cond(anew, fresh, lambda pl: pl, (perm, labels))
+    words = _draw(key, sa.centres.shape[0], settings)
+    perm, labels, restart = _children(words, state, g, sa, settings)
     pop = _evaluated(sa, perm, labels, settings)
     pop = _kept(pop, state.pop, restart, settings)
     before = jax.tree.map(lambda a, b: jnp.where(g > 0, a, b), state.best, _unset(pop))
