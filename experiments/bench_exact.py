@@ -18,8 +18,8 @@ import numpy as np
 
 from calibration import calibration
 
-from hga_jax.exact import solve
-from hga_jax.scenario import Field, Scenario
+from hga_jax.model.exact import solve
+from hga_jax.model.scenario import Field, Scenario
 
 
 def random_scene(rng: np.random.Generator, n: int) -> Scenario:

@@ -58,11 +58,11 @@ import numpy as np
 from calibration import calibration
 
 import hga_jax
-from hga_jax.config import load_scenario, scenario_from_dict
-from hga_jax.exact import solve
-from hga_jax.output import write_json
-from hga_jax.runner import run_many
-from hga_jax.settings import GASettings
+from hga_jax.host.config import load_scenario, scenario_from_dict
+from hga_jax.model.exact import solve
+from hga_jax.host.output import write_json
+from hga_jax.running.runner import run_many
+from hga_jax.search.settings import GASettings
 from hga_jax.study.scenes import generate
 
 HERE = os.path.dirname(os.path.abspath(__file__))

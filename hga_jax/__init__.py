@@ -14,18 +14,18 @@ The model and the result files are defined in docs/model.md.
 """
 __version__ = "0.3.0"
 
-from . import distributed  # hga_jax.distributed.initialize: one job over several processes
-from .config import load_scenario, scenario_from_dict
-from .devices import use_cpu_cores
+from hga_jax.running import distributed  # distributed.initialize: one job over several processes
+from hga_jax.host.config import load_scenario, scenario_from_dict
+from hga_jax.running.devices import use_cpu_cores
 from .errors import ConfigError, Interrupted, ModelMismatchError
-from .exact import solve
-from .path import Path, evaluate_path, from_chromosome
-from .plots import plot_convergence, plot_path, save_figure
-from .report import run_summary, write_run
-from .results import RunsResult
-from .runner import enable_compilation_cache, run_many, settings_for
-from .scenario import Field, Scenario
-from .settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset
+from hga_jax.model.exact import solve
+from hga_jax.model.path import Path, evaluate_path, from_chromosome
+from hga_jax.host.plots import plot_convergence, plot_path, save_figure
+from hga_jax.host.report import run_summary, write_run
+from hga_jax.host.results import RunsResult
+from hga_jax.running.runner import enable_compilation_cache, run_many, settings_for
+from hga_jax.model.scenario import Field, Scenario
+from hga_jax.search.settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset
 
 __all__ = [
     "ConfigError", "Field", "GASettings", "Interrupted", "ModelMismatchError", "PAPER", "PRESETS",

@@ -1,6 +1,6 @@
 """``python -m hga_jax`` is the ``hga-jax`` command."""
 import sys
 
-from .cli import main
+from hga_jax.host.cli import main
 
 sys.exit(main())

@@ -1,6 +1,6 @@
 """An independent clearance check of decoded paths, by dense sampling (test helper).
 
-It shares no code with :mod:`hga_jax.geometry`: each arc is sampled at ``K`` angles
+It shares no code with :mod:`hga_jax.model.geometry`: each arc is sampled at ``K`` angles
 from ``atan2`` of its arrival point, plus, for each obstacle, the circle's point
 towards it when that angle lies within the arc (angle arithmetic modulo 2*pi, not
 cross products), plus the four axis-extreme points within the arc; each line at
@@ -23,7 +23,7 @@ def _within(angle, start, signed_sweep):
 
 
 def clearance(sa, d, k: int = 64, chunk: int = 4096) -> tuple[np.ndarray, np.ndarray]:
-    """Per path of the float64 :class:`~hga_jax.decode.Decoded` ``d`` (numpy arrays)
+    """Per path of the float64 :class:`~hga_jax.model.decode.Decoded` ``d`` (numpy arrays)
     against scenario arrays ``sa``: ``(obstacle_clearance, field_clearance)`` (m)."""
     rows = d.length.shape[0]
     obs = np.full(rows, np.inf)

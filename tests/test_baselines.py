@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from _families import FAMILIES, chromosomes, scenes
 
-from hga_jax.config import load_scenario, scenario_from_dict
-from hga_jax.exact import solve
-from hga_jax.path import decode64, from_chromosome
+from hga_jax.host.config import load_scenario, scenario_from_dict
+from hga_jax.model.exact import solve
+from hga_jax.model.path import decode64, from_chromosome
 from hga_jax.study.scenes import generate
 
 

@@ -8,8 +8,8 @@ import sys
 
 import pytest
 
-from hga_jax.cli import main
-from hga_jax.path import segments_length
+from hga_jax.host.cli import main
+from hga_jax.model.path import segments_length
 
 OPEN = "configs/scenarios/open_field.toml"
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
@@ -127,7 +127,7 @@ def test_bad_flags_and_ga_file(tmp_path, capsys):
 
 def test_console_script_prints_no_traceback(tmp_path):
     bad = _write(tmp_path, GOOD.replace("radius = 0.09", "radius = 0"))
-    proc = subprocess.run([sys.executable, "-m", "hga_jax.cli", "check", bad],
+    proc = subprocess.run([sys.executable, "-m", "hga_jax.host.cli", "check", bad],
                           capture_output=True, text=True, env={**os.environ, "JAX_PLATFORMS": "cpu"})
     assert proc.returncode == 2
     assert proc.stderr.count("\n") == 1 and "robot.radius" in proc.stderr
@@ -213,8 +213,8 @@ def test_touched_has_one_format_numbered_from_one(tiny):
         assert touched and all(set(t) == {"obstacle", "label"} for t in touched)
         assert [t["obstacle"] for t in touched] == [1]  # the one obstacle is number 1
     assert data["best"]["upper"] == [0, 1, 2]
-    from hga_jax.config import scenario_from_dict
-    from hga_jax.plots import plot_path
+    from hga_jax.host.config import scenario_from_dict
+    from hga_jax.host.plots import plot_path
 
     sc = scenario_from_dict(data["scenario"]["definition"])
     ax = plot_path(sc, data["best"]["segments"], touched=data["best"]["touched"]).axes[0]
@@ -232,7 +232,7 @@ def test_plot_command_redraws_any_run_with_the_optimum(tiny, tmp_path):
     assert code == 2 and "path_run2.png: already exists" in err
     code, _, err = _run_cli(["plot", res, "--run", "99", "--out", str(tmp_path / "x.png")])
     assert code == 2 and err.strip() == f"hga-jax: error: {res}: per_run: no run 99 in this file (runs 0..2)"
-    from hga_jax.report import redraw
+    from hga_jax.host.report import redraw
 
     ax = redraw(res, run=1, with_optimum=True).axes[0]
     opt = json.loads((out / "result.json").read_text())["optimum"]
@@ -357,8 +357,8 @@ def test_chunk_and_memory_limits_are_refused_in_one_line(tmp_path, capsys):
 
 
 def test_budget_sizes_batches_to_fit():
-    from hga_jax import budget
-    from hga_jax.settings import GASettings
+    from hga_jax.running import budget
+    from hga_jax.search.settings import GASettings
 
     s = GASettings()
     free = budget.plan(9, s, 2000, None, available=10**11)
@@ -394,7 +394,7 @@ def test_check_reports_every_file(tmp_path, capsys):
 
 
 def test_help_shows_defaults_and_every_argument_is_explained(capsys):
-    from hga_jax.cli import _parser
+    from hga_jax.host.cli import _parser
 
     parser = _parser()
     subs = parser._subparsers._group_actions[0].choices
@@ -412,7 +412,7 @@ def test_help_shows_defaults_and_every_argument_is_explained(capsys):
 
 
 def test_preset_paper_reproduces_the_papers_settings_and_is_recorded(tmp_path):
-    from hga_jax.settings import PAPER, RECOMMENDED
+    from hga_jax.search.settings import PAPER, RECOMMENDED
 
     scen = _write(tmp_path, GOOD, "good.toml")
     docs = {}
@@ -444,13 +444,13 @@ def test_a_bad_cache_folder_is_reported(tmp_path, monkeypatch, capsys):
 
 
 def test_internal_errors_are_one_line_with_status_3(monkeypatch, tmp_path, capsys):
-    import hga_jax.exact
+    import hga_jax.model.exact
     from hga_jax.errors import ModelMismatchError
 
     def mismatch(scenario, collision="full"):
         raise ModelMismatchError(f"{scenario.name}: walk 2.0 m, decoder 2.1 m")
 
-    monkeypatch.setattr(hga_jax.exact, "solve", mismatch)
+    monkeypatch.setattr(hga_jax.model.exact, "solve", mismatch)
     assert main(["exact", ROBOCUP, "--out", str(tmp_path / "o")]) == 3
     out, err = capsys.readouterr()
     assert out == "" and err == ("hga-jax: internal error: robocup_paper: walk 2.0 m, decoder "

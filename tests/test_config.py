@@ -1,4 +1,4 @@
-"""Tests of scenario loading and validation (hga_jax.config)."""
+"""Tests of scenario loading and validation (hga_jax.host.config)."""
 from __future__ import annotations
 
 import itertools
@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hga_jax.config import load_scenario, scenario_from_dict
+from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.errors import ConfigError
-from hga_jax.scenario import Scenario
+from hga_jax.model.scenario import Scenario
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "configs" / "scenarios"
 

@@ -7,9 +7,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hga_jax.decode import decode_batch
-from hga_jax.path import evaluate_path, segments_length
-from hga_jax.scenario import Field, Scenario
+from hga_jax.model.decode import decode_batch
+from hga_jax.model.path import evaluate_path, segments_length
+from hga_jax.model.scenario import Field, Scenario
 
 TWO_PI = 2 * math.pi
 decode = jax.jit(decode_batch, static_argnames="collision")
@@ -193,7 +193,7 @@ def test_float32_search_agrees_with_float64(collision):
 
 @pytest.mark.parametrize("length", [2, 3, 5, 11, 27])
 def test_compaction_keeps_active_rows_in_order(length):
-    from hga_jax.decode import _compact
+    from hga_jax.model.decode import _compact
 
     rng = np.random.default_rng(length)
     active = rng.random((length, 300)) < 0.5

@@ -15,11 +15,12 @@ import jax
 import numpy as np
 import pytest
 
-from hga_jax import exact, scenario_from_dict, solve
-from hga_jax import geometry as g
-from hga_jax.decode import decode_batch
+from hga_jax.model import exact
+from hga_jax import scenario_from_dict, solve
+from hga_jax.model import geometry as g
+from hga_jax.model.decode import decode_batch
 from hga_jax.errors import ModelMismatchError
-from hga_jax.path import Path, decode64, evaluate_path, from_chromosome
+from hga_jax.model.path import Path, decode64, evaluate_path, from_chromosome
 
 from _families import FAMILIES, chromosomes, mirror, rotate, scenes, translate
 from _oracle import clearance

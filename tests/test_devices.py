@@ -1,4 +1,4 @@
-"""One JAX device per CPU core (hga_jax.devices, --cpu-devices): counts, refusals, same runs."""
+"""One JAX device per CPU core (hga_jax.running.devices, --cpu-devices): counts, refusals, same runs."""
 import json
 import math
 import os
@@ -7,9 +7,9 @@ import sys
 
 import pytest
 
-from hga_jax import devices
-from hga_jax.cli import main
-from hga_jax.devices import cores, use_cpu_cores
+from hga_jax.running import devices
+from hga_jax.host.cli import main
+from hga_jax.running.devices import cores, use_cpu_cores
 from hga_jax.errors import ConfigError
 
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
@@ -19,7 +19,7 @@ JOB = ["--preset", "paper", "--runs", "7", "--seed", "3", "--generations", "4",
 # In a fresh process: what each call returns and the devices JAX then has.
 COUNTS = """
 import json, sys, jax
-from hga_jax.devices import use_cpu_cores
+from hga_jax.running.devices import use_cpu_cores
 from hga_jax.errors import ConfigError
 out = {"first": use_cpu_cores(*json.loads(sys.argv[1]))}
 out["devices"] = jax.local_device_count()  # the runtime starts here

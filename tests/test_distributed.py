@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from hga_jax.distributed import share
+from hga_jax.running.distributed import share
 
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
 # 25 runs from run 3: uneven shares over two processes (runs 3..15 and 16..27);

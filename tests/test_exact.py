@@ -16,10 +16,10 @@ import jax
 import numpy as np
 import pytest
 
-from hga_jax.decode import decode_batch
-from hga_jax.exact import solve
-from hga_jax.path import evaluate_path, from_chromosome, segments_length
-from hga_jax.scenario import Field, Scenario
+from hga_jax.model.decode import decode_batch
+from hga_jax.model.exact import solve
+from hga_jax.model.path import evaluate_path, from_chromosome, segments_length
+from hga_jax.model.scenario import Field, Scenario
 
 _decode = jax.jit(decode_batch, static_argnames="collision")
 REL = 1e-9

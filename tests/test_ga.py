@@ -4,11 +4,11 @@ import itertools
 import numpy as np
 import pytest
 
-from hga_jax.config import load_scenario
-from hga_jax.path import evaluate_path
-from hga_jax.runner import run_many
-from hga_jax.scenario import Scenario
-from hga_jax.settings import GASettings
+from hga_jax.host.config import load_scenario
+from hga_jax.model.path import evaluate_path
+from hga_jax.running.runner import run_many
+from hga_jax.model.scenario import Scenario
+from hga_jax.search.settings import GASettings
 
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
 FIELDS = ("perm", "labels", "length", "violations", "generation")
@@ -45,7 +45,7 @@ def test_run_k_alone_equals_run_k_in_a_batch(robocup, batch100, k):
 
 
 def test_chunking_and_blocks_do_not_change_runs(robocup, batch100, monkeypatch):
-    from hga_jax import budget
+    from hga_jax.running import budget
 
     # About 3 generations per block: the nearest divisor of 50 is taken.
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 7 * 50 * 3)
@@ -57,7 +57,8 @@ def test_chunking_and_blocks_do_not_change_runs(robocup, batch100, monkeypatch):
 def test_blocks_equal_one_scan_and_run_batch_takes_a_list(robocup, monkeypatch):
     import jax
 
-    from hga_jax import budget, ga
+    from hga_jax.running import budget
+    from hga_jax.search import ga
 
     s = GASettings(generations=12)  # 13 generations, prime: no divisor near 4, a ragged last block
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 4 * 50 * 4)
@@ -148,9 +149,9 @@ def test_float64_search(robocup):
 
 SHARDED = """
 import json, sys, jax
-from hga_jax.config import load_scenario
-from hga_jax.runner import run_many
-from hga_jax.settings import GASettings
+from hga_jax.host.config import load_scenario
+from hga_jax.running.runner import run_many
+from hga_jax.search.settings import GASettings
 r = run_many(load_scenario(sys.argv[1]), GASettings(generations=6), seed=2, runs=5, exact=False)
 print(json.dumps([jax.device_count(), r.length.tolist(), r.history["mean_fitness"].tolist()]))
 """
@@ -176,7 +177,7 @@ def test_sharding_over_two_devices_gives_the_same_runs():
 def test_one_compiled_generation_equals_the_scanned_one(robocup):
     import jax
 
-    from hga_jax import ga
+    from hga_jax.search import ga
 
     s, sa = GASettings(generations=3), robocup.search_arrays()
     key = ga.run_key(7, 0)

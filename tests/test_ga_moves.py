@@ -4,9 +4,9 @@ builds generation 0 from wrapped blockers."""
 import numpy as np
 import pytest
 
-from hga_jax.config import load_scenario
-from hga_jax.runner import run_many
-from hga_jax.settings import RECOMMENDED
+from hga_jax.host.config import load_scenario
+from hga_jax.running.runner import run_many
+from hga_jax.search.settings import RECOMMENDED
 
 FIELDS = ("perm", "labels", "length", "violations", "generation")
 
@@ -27,7 +27,8 @@ def test_recommended_runs_are_the_same_alone_in_chunks_in_blocks_and_in_one_scan
         robocup, monkeypatch):
     import jax
 
-    from hga_jax import budget, ga
+    from hga_jax.running import budget
+    from hga_jax.search import ga
 
     s = RECOMMENDED.replace(generations=20, restart_after=3, label_binding="obstacle",
                             path_mutation="mixed")
@@ -46,7 +47,7 @@ def test_recommended_runs_are_the_same_alone_in_chunks_in_blocks_and_in_one_scan
 
 
 def test_scenario_arrays_without_legs_are_refused(robocup):
-    from hga_jax import ga
+    from hga_jax.search import ga
 
     with pytest.raises(ValueError, match="with_legs=True"):
         ga.run(ga.run_key(0, 0), robocup.search_arrays(), RECOMMENDED)
@@ -73,7 +74,7 @@ def test_restarts_come_every_r_generations_of_a_stall_and_never_otherwise(robocu
 def test_seeded_generation_zero_wraps_blockers(robocup):
     """The default scene's direct paths are all blocked: seeded individuals touch
     obstacles, and generation 0 is far better than a random one."""
-    from hga_jax.settings import PAPER
+    from hga_jax.search.settings import PAPER
 
     seeded = run_many(robocup, PAPER.replace(generations=0, seeding=1.0), seed=0, runs=50,
                       exact=False)

@@ -3,13 +3,13 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax.config import load_scenario
+from hga_jax.host.config import load_scenario
 from hga_jax.errors import ConfigError
-from hga_jax.fitness import fitness_of
-from hga_jax.ga import positional
-from hga_jax.path import decode64
-from hga_jax.runner import run_many
-from hga_jax.settings import GASettings
+from hga_jax.model.fitness import fitness_of
+from hga_jax.search.ga import positional
+from hga_jax.model.path import decode64
+from hga_jax.running.runner import run_many
+from hga_jax.search.settings import GASettings
 
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
 

@@ -2,10 +2,10 @@
 import numpy as np
 import pytest
 
-from hga_jax.config import load_scenario
-from hga_jax.exact import solve
-from hga_jax.results import HIT_GAP
-from hga_jax.runner import run_many
+from hga_jax.host.config import load_scenario
+from hga_jax.model.exact import solve
+from hga_jax.host.results import HIT_GAP
+from hga_jax.running.runner import run_many
 
 
 @pytest.fixture(scope="module")

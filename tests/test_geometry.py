@@ -5,7 +5,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax import geometry as g
+from hga_jax.model import geometry as g
 
 S3 = math.sqrt(3.0)
 

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax import label_ops as lo_
+from hga_jax.search import label_ops as lo_
 
 LENGTHS = [3, 11, 27]  # L = n + 2 for n = 1, 9, 25
 BATCH = 256

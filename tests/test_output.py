@@ -6,9 +6,9 @@ import pytest
 from matplotlib.figure import Figure
 
 from hga_jax.errors import ConfigError
-from hga_jax.output import (atomic_write, check_folder, json_writer, result_files_in,
+from hga_jax.host.output import (atomic_write, check_folder, json_writer, result_files_in,
                             write_result)
-from hga_jax.plots import save_figure
+from hga_jax.host.plots import save_figure
 
 
 def _mode(path) -> int:

@@ -1,5 +1,5 @@
-"""Moves on the touched sequence (hga_jax/path_ops.py) and the per-leg blockers they
-read (hga_jax/legs.py): worked examples, a numpy reference of ``move_apply``, the
+"""Moves on the touched sequence (hga_jax/search/path_ops.py) and the per-leg blockers they
+read (hga_jax/model/legs.py): worked examples, a numpy reference of ``move_apply``, the
 invariants of every registered move (n = 1, 9 and 30; n > 20 takes perm_ops._take's
 gathers), ``wrap_blockers`` on hand-built scenes, ``legs.build`` against an
 independent point-segment distance, and the path settings."""
@@ -10,11 +10,11 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax import legs as legs_mod
-from hga_jax import path_ops, perm_ops, rng
-from hga_jax.config import load_scenario, scenario_from_dict
+from hga_jax.model import legs as legs_mod
+from hga_jax.search import path_ops, perm_ops, rng
+from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.errors import ConfigError
-from hga_jax.settings import GASettings
+from hga_jax.search.settings import GASettings
 
 COUNT = 200  # random chromosomes (and keys) per move and scene
 
@@ -61,7 +61,7 @@ def _touched(perm, labels):
 
 
 def _circle_ids(perm, labels):
-    """Circle ids (hga_jax/tangents.py numbering) of the touched sequence, start to goal."""
+    """Circle ids (hga_jax/model/tangents.py numbering) of the touched sequence, start to goal."""
     n = len(perm)
     ids = [(1 + int(labels[0])) // 2]
     ids += [4 + 2 * int(perm[p]) + (1 - int(labels[p + 1])) // 2

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax import perm_ops as po
+from hga_jax.search import perm_ops as po
 
 SIZES = [1, 2, 3, 9, 25]
 BATCH = 64

@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from hga_jax.path import evaluate_path
-from hga_jax.plots import plot_convergence, plot_path, save_figure
-from hga_jax.scenario import Field, Scenario
+from hga_jax.model.path import evaluate_path
+from hga_jax.host.plots import plot_convergence, plot_path, save_figure
+from hga_jax.model.scenario import Field, Scenario
 
 
 @pytest.fixture()
@@ -138,7 +138,7 @@ def test_violations_are_located_and_marked(scene):
 
 
 def test_every_violation_is_located():
-    from hga_jax.config import load_scenario
+    from hga_jax.host.config import load_scenario
 
     rng = np.random.default_rng(7)
     for name in ("robocup_paper", "overlapping"):

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from hga_jax.cli import _parser
+from hga_jax.host.cli import _parser
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
@@ -58,7 +58,7 @@ def test_python_snippets_run_as_written(tmp_path, monkeypatch, registries):
 
 
 def test_scenario_snippet_loads():
-    from hga_jax.config import scenario_from_dict
+    from hga_jax.host.config import scenario_from_dict
 
     (text,) = [b for b in _blocks("toml") if "[robot]" in b]
     sc = scenario_from_dict(tomllib.loads(text), "README.md")

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hga_jax.config import scenario_from_dict
-from hga_jax.runner import run_many
-from hga_jax.settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset
+from hga_jax.host.config import scenario_from_dict
+from hga_jax.running.runner import run_many
+from hga_jax.search.settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset
 from hga_jax.errors import ConfigError
 from hga_jax.study.scenes import generate
 

@@ -1,4 +1,4 @@
-"""hga_jax.rng: the same numbers as JAX's threefry2x32, key by key and draw by draw."""
+"""hga_jax.search.rng: the same numbers as JAX's threefry2x32, key by key and draw by draw."""
 from __future__ import annotations
 
 import jax
@@ -6,7 +6,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax import ga, rng
+from hga_jax.search import ga, rng
 
 DRAWS = {
     "bits32": lambda k, s: jax.random.bits(k, s),
@@ -65,7 +65,7 @@ def test_the_hash_matches_the_published_test_vector():
 def test_host_keys_are_the_device_keys(seed):
     """The runner makes each run's generation keys on the host (numpy); they must be
     the keys ga.run derives on the device from the run's key."""
-    from hga_jax.settings import GASettings
+    from hga_jax.search.settings import GASettings
 
     s = GASettings(generations=7)
     ks = np.array([0, 1, 5, 2**31 - 1])

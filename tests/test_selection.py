@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax import selection as sel
+from hga_jax.search import selection as sel
 
 FIT = jnp.array([1.0, 2.0, 3.0, 4.0, 10.0], jnp.float32)
 

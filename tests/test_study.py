@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from scipy import stats as sps
 
-from hga_jax.cli import main
-from hga_jax.config import load_scenario
+from hga_jax.host.cli import main
+from hga_jax.host.config import load_scenario
 from hga_jax.errors import ConfigError
-from hga_jax.exact import solve
-from hga_jax.path import evaluate_path
+from hga_jax.model.exact import solve
+from hga_jax.model.path import evaluate_path
 from hga_jax.study import load_study, stats
 from hga_jax.study.config import Family
 from hga_jax.study.scenes import MODEL_RADIUS, family_scenes, field_size, generate, to_toml

@@ -13,12 +13,12 @@ import time
 import numpy as np
 import pytest
 
-from hga_jax import perm_ops
-from hga_jax.config import load_scenario
-from hga_jax.exact import solve
-from hga_jax.path import decode64
-from hga_jax.runner import run_many
-from hga_jax.settings import GASettings
+from hga_jax.search import perm_ops
+from hga_jax.host.config import load_scenario
+from hga_jax.model.exact import solve
+from hga_jax.model.path import decode64
+from hga_jax.running.runner import run_many
+from hga_jax.search.settings import GASettings
 from hga_jax.study import run_study, stats
 
 ROBOCUP = os.path.abspath("configs/scenarios/robocup_paper.toml")
@@ -227,7 +227,7 @@ def test_a_killed_study_resumes_without_losing_or_repeating(tmp_path):
 
 
 PLUGIN = '''
-from hga_jax import perm_ops
+from hga_jax.search import perm_ops
 
 
 def keep_parents(key, a, b):

@@ -1,4 +1,4 @@
-"""The turn table (hga_jax.turns) and the fitness's lookups against the leg-by-leg decoder."""
+"""The turn table (hga_jax.model.turns) and the fitness's lookups against the leg-by-leg decoder."""
 from __future__ import annotations
 
 import math
@@ -7,10 +7,11 @@ import jax
 import numpy as np
 import pytest
 
-from hga_jax import scenario_from_dict, turns
-from hga_jax.config import load_scenario
-from hga_jax.decode import decode_batch
-from hga_jax.fitness import evaluate, looked_up
+from hga_jax import scenario_from_dict
+from hga_jax.model import turns
+from hga_jax.host.config import load_scenario
+from hga_jax.model.decode import decode_batch
+from hga_jax.model.fitness import evaluate, looked_up
 from hga_jax.study.scenes import generate
 
 from _families import chromosomes, scenes

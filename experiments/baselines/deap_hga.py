@@ -34,9 +34,9 @@ import time
 
 from deap import base, creator, tools
 
-from hga_jax.config import load_scenario
-from hga_jax.exact import solve
-from hga_jax.settings import GASettings
+from hga_jax.host.config import load_scenario
+from hga_jax.model.exact import solve
+from hga_jax.search.settings import GASettings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from python_decoder import PythonDecoder  # noqa: E402  (beside this file)

@@ -30,9 +30,9 @@ import time
 
 import numpy as np
 
-from hga_jax.config import load_scenario, scenario_from_dict
-from hga_jax.exact import solve
-from hga_jax.runner import run_many
+from hga_jax.host.config import load_scenario, scenario_from_dict
+from hga_jax.model.exact import solve
+from hga_jax.running.runner import run_many
 from hga_jax.study.scenes import generate
 
 SAMPLES = 4000  # states per checked path

@@ -27,8 +27,8 @@ import os
 
 import numpy as np
 
-from hga_jax.config import load_scenario, scenario_from_dict, scenario_to_dict
-from hga_jax.exact import solve
+from hga_jax.host.config import load_scenario, scenario_from_dict, scenario_to_dict
+from hga_jax.model.exact import solve
 
 RHO = 0.15  # the bundled scene's turning radius (m)
 

@@ -18,11 +18,11 @@ from typing import Any
 
 import numpy as np
 
-from ..config import load_scenario
-from ..fitness import fitness_of
-from ..path import evaluate_path, from_chromosome
-from ..plots import plot_path
-from ..output import write_csv, write_file
+from hga_jax.host.config import load_scenario
+from hga_jax.model.fitness import fitness_of
+from hga_jax.model.path import evaluate_path, from_chromosome
+from hga_jax.host.plots import plot_path
+from hga_jax.host.output import write_csv, write_file
 from . import stats
 from .figures import plt, save
 from .table import Table

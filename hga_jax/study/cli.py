@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import argparse
 
-from .. import devices
+from hga_jax.running import devices
 
 
 def add_parser(sub) -> None:
@@ -28,11 +28,11 @@ def run(args: argparse.Namespace) -> int:
 
     devices.from_option(args)  # before anything starts JAX's runtime
     if not args.no_cache:
-        from ..runner import enable_compilation_cache
+        from hga_jax.running.runner import enable_compilation_cache
 
         enable_compilation_cache()
     if args.scenes is not None and args.scenes < 1:
-        from ..errors import ConfigError
+        from hga_jax.errors import ConfigError
 
         raise ConfigError(f"command line: --scenes: must be >= 1, got {args.scenes}")
     outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,
@@ -52,7 +52,7 @@ def script(path: str, argv=None, doc: str = "") -> int:
     import os
     import sys
 
-    from ..errors import ConfigError
+    from hga_jax.errors import ConfigError
 
     name = os.path.splitext(os.path.basename(path))[0]
     p = argparse.ArgumentParser(prog=f"{name}.py", description=doc.strip().splitlines()[0])

@@ -30,8 +30,8 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from ..errors import ConfigError
-from ..settings import GASettings
+from hga_jax.errors import ConfigError
+from hga_jax.search.settings import GASettings
 
 TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses", "ga",
        "families", "configs", "quick"}

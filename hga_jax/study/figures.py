@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..plots import save_figure  # noqa: E402
+from hga_jax.host.plots import save_figure  # noqa: E402
 from . import stats  # noqa: E402
 from .store import TARGETS  # noqa: E402
 from .summary import target_column  # noqa: E402
@@ -21,7 +21,7 @@ GAP_FLOOR = 1e-6  # gaps are drawn on a log axis; a hit sits at this floor
 
 
 def save(fig, path: str) -> str:
-    """Write a PNG atomically (:func:`~hga_jax.plots.save_figure`) and close the figure."""
+    """Write a PNG atomically (:func:`~hga_jax.host.plots.save_figure`) and close the figure."""
     save_figure(fig, path)
     plt.close(fig)
     return path

@@ -15,11 +15,11 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from ..config import load_scenario
-from ..path import decode64
-from ..output import write_csv, write_file, write_json
-from ..results import json_safe
-from ..runner import run_many
+from hga_jax.host.config import load_scenario
+from hga_jax.model.path import decode64
+from hga_jax.host.output import write_csv, write_file, write_json
+from hga_jax.host.results import json_safe
+from hga_jax.running.runner import run_many
 from . import figures, summary, table
 from .config import Config, Study, load_study
 from .scenes import Scene, family_scenes
@@ -47,7 +47,7 @@ def versions() -> dict[str, str]:
     import numpy
     import scipy
 
-    from .. import __version__
+    from hga_jax import __version__
 
     return {"hga_jax": __version__, "jax": jax.__version__, "numpy": numpy.__version__,
             "scipy": scipy.__version__, "python": platform.python_version()}

@@ -24,11 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import scenario_from_dict
-from ..exact import solve
-from ..path import decode64
-from ..output import write_file
-from ..scenario import Scenario
+from hga_jax.host.config import scenario_from_dict
+from hga_jax.model.exact import solve
+from hga_jax.model.path import decode64
+from hga_jax.host.output import write_file
+from hga_jax.model.scenario import Scenario
 from .config import Family
 
 ROBOT_RADIUS, TURN_RADIUS, MODEL_RADIUS = 0.09, 0.15, 0.18

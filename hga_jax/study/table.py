@@ -17,8 +17,8 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from ..output import write_file
-from ..results import json_safe
+from hga_jax.host.output import write_file
+from hga_jax.host.results import json_safe
 
 ID_COLUMNS = ("study", "config", "family", "scenario", "obstacles", "seed")
 

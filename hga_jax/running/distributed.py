@@ -25,7 +25,7 @@ from typing import Any, Callable, TypeVar
 import jax
 import numpy as np
 
-from .errors import ConfigError
+from hga_jax.errors import ConfigError
 
 MESSAGE_BYTES = 2048  # an error message shared by :func:`together` is cut to this (UTF-8)
 

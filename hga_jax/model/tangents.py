@@ -9,14 +9,14 @@ A label ``l`` on a start, goal or obstacle position picks circle ``(1 + l) // 2`
 A tangent depends only on its two circles, so its touch points, its length and its
 violations (the segment against every obstacle, by the full or the paper criterion;
 the field; a missing tangent) are computed here once per scenario, on the host, with
-the functions of :mod:`hga_jax.geometry` in the scenario's float dtype. Decoding a
+the functions of :mod:`hga_jax.model.geometry` in the scenario's float dtype. Decoding a
 leg is then a lookup; only the arcs depend on the chromosome. Circles with coincident
 centres (a start and a goal circle on the same turning circle) have no fixed
 tangent: the decoder puts it on the ray through the point where the path arrived
 (so equal circles of one orientation go on along the circle from there), and their
 entry counts only a missing tangent (other radii or orientations), no segment.
 
-Units: metres. Host code (numpy), called by :meth:`hga_jax.scenario.Scenario.arrays`.
+Units: metres. Host code (numpy), called by :meth:`hga_jax.model.scenario.Scenario.arrays`.
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import geometry as g
+from hga_jax.model import geometry as g
 
 
 class TangentTable(NamedTuple):

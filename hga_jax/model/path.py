@@ -1,6 +1,6 @@
 """A single path, re-evaluated exactly: float64 length, violations and segments.
 
-Host-side: runs the same decoder as the search (:func:`hga_jax.decode.decode_batch`)
+Host-side: runs the same decoder as the search (:func:`hga_jax.model.decode.decode_batch`)
 in float64 and turns its slots into the segment list of the result files
 (docs/model.md). Every length that hga-jax reports comes from here, whatever
 precision the search used.
@@ -18,9 +18,9 @@ from typing import Any, Sequence
 import jax
 import numpy as np
 
-from . import geometry as g
+from hga_jax.model import geometry as g
 from .decode import decode_batch
-from .errors import ConfigError
+from hga_jax.errors import ConfigError
 from .scenario import Scenario
 
 _decode = jax.jit(decode_batch, static_argnames="collision")
@@ -58,7 +58,7 @@ class Path:
     segments: segment dicts of the result files in travel order (zero-length pieces
       left out, and lines shorter than ``TINY``: rounding, with no direction).
     touched: ``(obstacle index from 0, label +1 CW / -1 CCW)`` pairs in travel order, as
-      in :class:`~hga_jax.exact.ExactResult`; ``to_dict`` writes them in the result
+      in :class:`~hga_jax.model.exact.ExactResult`; ``to_dict`` writes them in the result
       files' format, ``{"obstacle": number from 1, "label": ...}``.
     violations_at: one dict per violation: ``{"kind": "obstacle" | "missing tangent" |
       "field", "segment": index into segments (None for a zero-length piece),
@@ -151,7 +151,7 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
 class _Locator:
     """Which obstacle (or the field) each piece of a decoded path violates.
 
-    The decoder's own tests (:mod:`hga_jax.geometry`) in float64, piece by piece,
+    The decoder's own tests (:mod:`hga_jax.model.geometry`) in float64, piece by piece,
     so the list has one entry per violation the decoder counted.
     """
 

@@ -1,13 +1,13 @@
 """Host side of many seeded runs: batches, blocks, sharding, timing, float64 re-evaluation.
 
-``run_many`` sizes the job (:mod:`hga_jax.budget`), compiles one batch shape (a
+``run_many`` sizes the job (:mod:`hga_jax.running.budget`), compiles one batch shape (a
 chunk of runs) as one program, a block of generations (generation 0 included), feeds
 it chunks of run indices (the last one padded), loops over the blocks on the
 host carrying the state (progress and Ctrl-C between blocks), shards each chunk
 over the process's devices when there are several, and re-evaluates every run's
 best chromosome in float64 before anything is reported. In a multi-process job
 each process does this for its share of the runs, and the runs are gathered to
-every process (:mod:`hga_jax.distributed`).
+every process (:mod:`hga_jax.running.distributed`).
 """
 from __future__ import annotations
 
@@ -21,17 +21,17 @@ from typing import Any, Callable, NamedTuple
 import jax
 import numpy as np
 
-from . import budget
-from .errors import ConfigError, Interrupted
-from .exact import solve
-from .fitness import fitness_of
-from .ga import Record, blank_batch, generations_batch, host_generation_keys
-from .report import count
-from .path import decode64, evaluate_path
-from .results import RunsResult
-from .scenario import Scenario
-from .settings import GASettings
-from .settings import preset as presets
+from hga_jax.running import budget
+from hga_jax.errors import ConfigError, Interrupted
+from hga_jax.model.exact import solve
+from hga_jax.model.fitness import fitness_of
+from hga_jax.search.ga import Record, blank_batch, generations_batch, host_generation_keys
+from hga_jax.host.report import count
+from hga_jax.model.path import decode64, evaluate_path
+from hga_jax.host.results import RunsResult
+from hga_jax.model.scenario import Scenario
+from hga_jax.search.settings import GASettings
+from hga_jax.search.settings import preset as presets
 
 _COMPILED: dict[Any, Any] = {}  # recent compiled programs (a study reuses them across scenes)
 _COMPILED_KEEP = 16
@@ -106,16 +106,16 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     ``settings`` defaults to the scenario's ``[ga]`` table over the paper's
     settings; a preset's name (``"recommended"``, ``"paper"``) puts that table over
     the preset's settings and records the name. ``exact`` also solves the model's optimum and reports the gap.
-    ``chunk``: runs per compiled batch (None: sized by :mod:`hga_jax.budget`, which
+    ``chunk``: runs per compiled batch (None: sized by :mod:`hga_jax.running.budget`, which
     also lowers a ``chunk`` that would not fit in memory and refuses a job whose
     results cannot fit). Each batch runs in blocks of generations, so Ctrl-C stops
     the job within a block (:class:`~hga_jax.errors.Interrupted`); ``progress``
     shows a bar of generations on stderr. ``preset``: the name of the preset the
-    settings were built on (:data:`hga_jax.settings.PRESETS`), recorded in the result.
+    settings were built on (:data:`hga_jax.search.settings.PRESETS`), recorded in the result.
 
-    In a multi-process job (after :func:`hga_jax.distributed.initialize`) every
+    In a multi-process job (after :func:`hga_jax.running.distributed.initialize`) every
     process makes the same call: each searches its share of the runs on its own
-    devices (:func:`hga_jax.distributed.share`), the runs are gathered to every
+    devices (:func:`hga_jax.running.distributed.share`), the runs are gathered to every
     process in run order, and every process returns the whole job's result, the
     one a single process gives; ``compile_s`` and ``search_s`` are then the
     slowest process's, and only process 0 shows progress.
@@ -134,7 +134,7 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     if procs == 1:
         found = _search(scenario, settings, seed, first_run, runs, chunk, progress)
     else:
-        from . import distributed
+        from hga_jax.running import distributed
 
         # Every process holds the merged result: the whole job must fit each one.
         distributed.together(lambda: budget.plan(
@@ -252,7 +252,7 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
 def _gathered(found: _Found, runs: int) -> _Found:
     """Every process's share of the runs, in run order, on every process (JAX
     collectives); the timings are the slowest process's."""
-    from . import distributed
+    from hga_jax.running import distributed
 
     t0 = time.perf_counter()
     rows = {name: getattr(found, name)
@@ -267,7 +267,7 @@ def _gathered(found: _Found, runs: int) -> _Found:
 
 
 def _host_blank(size: int, sa, settings: GASettings) -> Any:
-    """:func:`~hga_jax.ga.blank_batch`'s shapes and dtypes as numpy zeros. Made by JAX, the
+    """:func:`~hga_jax.search.ga.blank_batch`'s shapes and dtypes as numpy zeros. Made by JAX, the
     state compiled a dozen small programs (0.3 s, and 0.3 s more to split it over two
     devices); generation 0 reads none of it."""
     shapes = jax.eval_shape(lambda: blank_batch(size, sa, settings))
@@ -283,7 +283,7 @@ def _put_tree(tree: Any, sharding: Any) -> Any:
 
 
 def _record_dtypes(dtype: Any) -> dict[str, Any]:
-    """The history's arrays: one per field of :class:`~hga_jax.ga.Record`."""
+    """The history's arrays: one per field of :class:`~hga_jax.search.ga.Record`."""
     return {name: (np.int32 if name.endswith("violations") else dtype) for name in Record._fields}
 
 

@@ -3,7 +3,7 @@
 Every random number of a run comes from JAX's default generator, threefry2x32
 (Salmon et al., "Parallel random numbers: as easy as 1, 2, 3", SC 2011), in its
 original (not "partitionable") layout; that stream is part of what a seed means
-(:mod:`hga_jax.ga`). JAX's CPU lowering of the threefry hash runs its 20 rounds
+(:mod:`hga_jax.search.ga`). JAX's CPU lowering of the threefry hash runs its 20 rounds
 as a rolled loop, which costs about 5 ns per 32-bit number; the GA draws about
 1,500 numbers per run and generation, more than its fitness costs. This module
 registers the same generator as a PRNG implementation of its own

@@ -1,8 +1,8 @@
 """Per-leg information for the path operators: which obstacles block each tangent.
 
-The operators of :mod:`hga_jax.path_ops` may look at the legs of a path the way
+The operators of :mod:`hga_jax.search.path_ops` may look at the legs of a path the way
 TSP operators look at a distance matrix: for every directed tangent ``a -> c``
-between two oriented circles (ids of :mod:`hga_jax.tangents`) they may ask which
+between two oriented circles (ids of :mod:`hga_jax.model.tangents`) they may ask which
 obstacles its segment passes through. They never search over whole paths.
 
 - ``blockers[a, c, j]``: the segment of the tangent ``a -> c`` comes closer to
@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import geometry as g
+from hga_jax.model import geometry as g
 from .tangents import TangentTable
 
 

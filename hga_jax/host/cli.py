@@ -10,7 +10,7 @@ is written. Result files are written before anything is printed, and a folder
 holds one result: an earlier result is only replaced with ``--force``.
 
 ``run --distributed`` spreads one job over several processes
-(:mod:`hga_jax.distributed`): every process runs the same command, process 0
+(:mod:`hga_jax.running.distributed`): every process runs the same command, process 0
 writes and prints; bad input found by any process stops all of them with the
 same line.
 
@@ -32,12 +32,13 @@ import sys
 import tomllib
 from typing import Any, Callable, Iterator, Sequence
 
-from . import __version__, devices
+from hga_jax import __version__
+from hga_jax.running import devices
 from .config import load_scenario
-from .errors import ConfigError, Interrupted, ModelMismatchError
-from .settings import (COLLISIONS, PAPER, PATH_MUTATIONS, PERM_CROSSOVERS, PERM_MUTATIONS,
+from hga_jax.errors import ConfigError, Interrupted, ModelMismatchError
+from hga_jax.search.settings import (COLLISIONS, PAPER, PATH_MUTATIONS, PERM_CROSSOVERS, PERM_MUTATIONS,
                        PRECISIONS, PRESETS, RECOMMENDED, SELECTIONS, GASettings)
-from .study import cli as study_cli
+from hga_jax.study import cli as study_cli
 
 DEFAULT_SCENARIO = os.path.join("configs", "scenarios", "robocup_paper.toml")
 GA_FLAGS = {  # setting -> (type, choices, help)
@@ -194,7 +195,7 @@ def _default_out(scenario_path: str, suffix: str = "") -> str:
 def _cache(args) -> None:
     """Keep compiled programs on disk unless ``--no-cache``; warn if that cannot be done."""
     if not args.no_cache:
-        from .runner import enable_compilation_cache
+        from hga_jax.running.runner import enable_compilation_cache
 
         enable_compilation_cache(on_error=lambda m: _warn(m))
 
@@ -250,7 +251,7 @@ def _cmd_run(args) -> int:
     _check_run_flags(args)
     joined = args.distributed or any(v is not None for v in (
         args.coordinator, args.num_processes, args.process_id))
-    from . import distributed
+    from hga_jax.running import distributed
 
     devices.from_option(args)  # before anything starts JAX's runtime
     if joined:
@@ -258,7 +259,8 @@ def _cmd_run(args) -> int:
                                source="command line")
     import jax
 
-    from . import budget, report
+    from hga_jax.running import budget
+    from hga_jax.host import report
     from .output import check_folder
 
     out = args.out or _default_out(args.scenario)
@@ -270,7 +272,7 @@ def _cmd_run(args) -> int:
 
     distributed.together(check) if joined else check()
     _cache(args)
-    from .runner import run_many
+    from hga_jax.running.runner import run_many
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet,
@@ -295,8 +297,8 @@ def _cmd_exact(args) -> int:
 
     check_folder(out, args.force)
     _cache(args)
-    from . import report
-    from .exact import solve
+    from hga_jax.host import report
+    from hga_jax.model.exact import solve
 
     opt = solve(scenario, collision)
     with _ctrl_c_deferred():

@@ -8,7 +8,7 @@ Conventions:
 - Allowed values: ``+1`` clockwise, ``-1`` counter-clockwise, ``0`` obstacle
   not touched. The two end positions take ``{-1, +1}``; the others
   ``{-1, 0, +1}``.
-- As in :mod:`hga_jax.perm_ops`, every operator works on ONE individual or
+- As in :mod:`hga_jax.search.perm_ops`, every operator works on ONE individual or
   ONE pair, is split into a random ``*_draw`` and a deterministic ``*_apply``
   step, has shapes that depend on ``L`` only, and jits and vmaps.
 - Cut points: ``0 <= lo < hi <= L``, uniform over all such pairs; the segment

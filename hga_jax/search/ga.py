@@ -6,7 +6,7 @@ Generation 0 is the random initial population; generations 1..G follow, so a
 run evaluates ``population * (G + 1)`` chromosomes.
 
 Everything here is a pure function of arrays, a PRNG key and the static
-:class:`~hga_jax.settings.GASettings`. Run ``k`` of seed ``s`` uses the key
+:class:`~hga_jax.search.settings.GASettings`. Run ``k`` of seed ``s`` uses the key
 ``fold_in(key(s), k)`` and nothing else, so it gives the same result alone or
 inside a batch of any size.
 
@@ -25,10 +25,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from . import label_ops, path_ops, perm_ops, rng, selection
-from .fitness import evaluate
-from .reductions import tree_sum
-from .scenario import ScenarioArrays
+from hga_jax.search import label_ops, path_ops, perm_ops, rng, selection
+from hga_jax.model.fitness import evaluate
+from hga_jax.model.reductions import tree_sum
+from hga_jax.model.scenario import ScenarioArrays
 from .settings import GASettings
 
 
@@ -83,7 +83,7 @@ def _fixed_stream(fn):
 @_fixed_stream
 def run_key(seed: int, k):
     """The PRNG key of run ``k`` of ``seed``: ``fold_in(key(seed), k)`` of JAX's default
-    threefry2x32 stream, as a key of :mod:`hga_jax.rng` (the same numbers, faster)."""
+    threefry2x32 stream, as a key of :mod:`hga_jax.search.rng` (the same numbers, faster)."""
     return jax.random.fold_in(rng.key(seed), k)
 
 
@@ -182,14 +182,14 @@ def unit(words):
 
 
 def _keys(rows):
-    """Keys (of :mod:`hga_jax.rng`) from two rows of words: ``(count,)`` keys."""
+    """Keys (of :mod:`hga_jax.search.rng`) from two rows of words: ``(count,)`` keys."""
     return jax.random.wrap_key_data(jnp.stack([rows[0], rows[1]], axis=-1), impl=rng.IMPL)
 
 
 def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays | None = None):
     """Generation 0's chromosomes from its words: random permutations and labels; with
     ``seeding``, the first ``round(seeding * P)`` are then built by
-    :func:`hga_jax.path_ops.wrap_blockers` from their start and goal labels (keys
+    :func:`hga_jax.search.path_ops.wrap_blockers` from their start and goal labels (keys
     from rows ``2n + 2`` and ``2n + 3``)."""
     perm = perm_ops.permutation_from_words(words[:n].T)
     labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
@@ -336,7 +336,7 @@ def generation_keys(key, settings: GASettings):
 
 def host_generation_keys(seed: int, ks, settings: GASettings):
     """:func:`generation_keys` of runs ``ks`` of ``seed``, made on the host (numpy):
-    keys of :mod:`hga_jax.rng`, shaped ``(len(ks), G + 1)``. A compiled block of
+    keys of :mod:`hga_jax.search.rng`, shaped ``(len(ks), G + 1)``. A compiled block of
     generations takes them as input instead of hashing them out itself."""
     ks = np.asarray(ks, np.int64)
     run = rng.host_fold_in(np.broadcast_to(rng.host_key(seed), ks.shape + (2,)), ks)

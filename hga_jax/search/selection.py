@@ -18,7 +18,7 @@ import jax
 import jax.numpy as jnp
 from jax import Array
 
-from .reductions import prefix_sum
+from hga_jax.model.reductions import prefix_sum
 
 from .perm_ops import int_from_words
 

@@ -20,7 +20,7 @@ import re
 import tempfile
 from typing import Any, Callable, Mapping
 
-from .errors import ConfigError
+from hga_jax.errors import ConfigError
 
 RESULT_FILES = ("result.json", "history.csv", "path.png", "convergence.png")
 _REDRAWN = re.compile(r"path_run\d+\.png")

@@ -1,7 +1,7 @@
 """Loading and validating scenario files (TOML).
 
 A scenario file holds (units: metres and degrees; headings are converted to
-radians in the returned :class:`~hga_jax.scenario.Scenario`)::
+radians in the returned :class:`~hga_jax.model.scenario.Scenario`)::
 
     name = "..."
     [robot]      radius, min_turn_radius
@@ -9,7 +9,7 @@ radians in the returned :class:`~hga_jax.scenario.Scenario`)::
     [goal]       x, y, heading_deg
     [[obstacles]] x, y, radius (optional, default: the robot's radius)
     [field]      xmin, xmax, ymin, ymax, keep_inside (optional, default false)
-    [ga]         GA settings, checked by :class:`~hga_jax.settings.GASettings`
+    [ga]         GA settings, checked by :class:`~hga_jax.search.settings.GASettings`
 
 ``obstacles``, ``field`` and ``ga`` may be absent. Every problem raises
 :class:`~hga_jax.errors.ConfigError` with one line ``"<source>: <key>: <problem>"``
@@ -28,9 +28,9 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import ConfigError
-from .scenario import Field, Scenario
-from .settings import GASettings
+from hga_jax.errors import ConfigError
+from hga_jax.model.scenario import Field, Scenario
+from hga_jax.search.settings import GASettings
 
 TOL = 1e-9  # metres: a point counts as inside a circle only by more than this
 

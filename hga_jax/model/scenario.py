@@ -5,10 +5,10 @@ loader converts). The point robot sees each obstacle as its *model circle* of
 radius ``R_i = max(rho, r_i + r)`` (docs/model.md).
 
 ``Scenario`` is host-side (plain floats and numpy arrays, validated by the
-loader in :mod:`hga_jax.config`). ``Scenario.arrays(dtype)`` gives the
+loader in :mod:`hga_jax.host.config`). ``Scenario.arrays(dtype)`` gives the
 :class:`ScenarioArrays` pytree that device code takes; ``Scenario.search_arrays(dtype,
 collision)`` adds the scenario's turn table for that collision mode
-(:mod:`hga_jax.turns`), which the GA's fitness looks paths up in.
+(:mod:`hga_jax.model.turns`), which the GA's fitness looks paths up in.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import legs, tangents, turns
+from hga_jax.model import legs, tangents, turns
 
 
 @dataclass(frozen=True)
@@ -79,10 +79,10 @@ class Scenario:
     def search_arrays(self, dtype: Any = np.float32, collision: str = "full",
                       with_legs: bool = False) -> "ScenarioArrays":
         """:meth:`arrays` with the turn table of ``collision`` (``"full"`` or ``"paper"``)
-        in ``dtype``, when it is usable and not too large (:func:`hga_jax.turns.fits`);
+        in ``dtype``, when it is usable and not too large (:func:`hga_jax.model.turns.fits`);
         otherwise without one, and the fitness decodes leg by leg. Built once per mode
         (from the float64 tangent table), cast per dtype. ``with_legs``: also the
-        per-leg blockers that the path operators read (:mod:`hga_jax.legs`)."""
+        per-leg blockers that the path operators read (:mod:`hga_jax.model.legs`)."""
         sa = self.arrays(dtype)
         if with_legs:
             if "legs" not in self._turns:
@@ -130,11 +130,11 @@ class ScenarioArrays(NamedTuple):
     bounds: (4,) ``xmin, xmax, ymin, ymax`` that path points must stay within
     (already shrunk by the robot radius; infinite when the field is not kept).
     delta: () penalty length per violation (m).
-    tangents: the :class:`~hga_jax.tangents.TangentTable` of the scenario.
-    turns_full, turns_paper: the turn table's entries (:mod:`hga_jax.turns`) for
+    tangents: the :class:`~hga_jax.model.tangents.TangentTable` of the scenario.
+    turns_full, turns_paper: the turn table's entries (:mod:`hga_jax.model.turns`) for
     each collision mode, or None (the fitness then decodes leg by leg); only
     :meth:`Scenario.search_arrays` fills them.
-    legs: the per-leg blockers of :mod:`hga_jax.legs` (for the path operators), or
+    legs: the per-leg blockers of :mod:`hga_jax.model.legs` (for the path operators), or
     None; filled by ``search_arrays(..., with_legs=True)``.
     """
 

@@ -10,7 +10,7 @@ A chromosome (docs/model.md, paper 3.3) is stored as
 the ids of the path's oriented circles are compacted to the front of a slot axis
 (log-step shifts, no Python loop over genes), then a ``lax.scan`` over the
 ``n + 1`` possible legs looks each tangent up in the scenario's tangent table
-(:mod:`hga_jax.tangents`: touch points, length and segment violations, computed
+(:mod:`hga_jax.model.tangents`: touch points, length and segment violations, computed
 once per scenario) and does the arc work, with the batch axis innermost (the
 layout XLA vectorises well), masking legs past the last touched circle.
 
@@ -29,7 +29,7 @@ from typing import Any, NamedTuple
 import jax
 import jax.numpy as jnp
 
-from . import geometry as g
+from hga_jax.model import geometry as g
 from .scenario import ScenarioArrays
 
 
@@ -57,7 +57,7 @@ class Decoded(NamedTuple):
 
 
 def position_circles(perm, labels):
-    """The oriented circle (id of :mod:`hga_jax.tangents`) of every position.
+    """The oriented circle (id of :mod:`hga_jax.model.tangents`) of every position.
 
     Returns ``ids`` and ``touched``, both (S, B) (S = n + 2, batch innermost):
     position 0 is the start circle, 1..n the obstacles in permutation order (the
@@ -72,7 +72,7 @@ def position_circles(perm, labels):
 
 
 def _path_circles(perm, labels):
-    """The oriented circles of the path (ids of :mod:`hga_jax.tangents`), compacted.
+    """The oriented circles of the path (ids of :mod:`hga_jax.model.tangents`), compacted.
 
     Returns ``count`` (B,) and ``ids`` (S, B) (S = n + 2): slot 0 is the start
     circle, slots 1..count-2 the touched obstacles in order, slot count-1 the goal

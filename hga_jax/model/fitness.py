@@ -4,9 +4,9 @@
 radius), and ``fitness = 10000 / (Dist_m + 1)``; higher is better.
 
 The length and violations of a chromosome come from the scenario's turn table
-(:mod:`hga_jax.turns`: one lookup per touched circle) when the scenario arrays
+(:mod:`hga_jax.model.turns`: one lookup per touched circle) when the scenario arrays
 carry one for the collision mode, else from the leg-by-leg decoder
-(:func:`hga_jax.decode.decode_batch`); both give the same values.
+(:func:`hga_jax.model.decode.decode_batch`); both give the same values.
 """
 from __future__ import annotations
 

@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from .path import Path, chromosome, touch_list
-from .scenario import Scenario
-from .settings import GASettings
+from hga_jax.model.path import Path, chromosome, touch_list
+from hga_jax.model.scenario import Scenario
+from hga_jax.search.settings import GASettings
 
 HIT_GAP = 1e-6
 NEAR_GAP = 0.01
@@ -188,7 +188,7 @@ def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
     """A JSON-safe result.json: the scenario and version header, then ``body``."""
     import jax
 
-    from . import __version__
+    from hga_jax import __version__
 
     from .config import scenario_to_dict
 
@@ -204,7 +204,7 @@ def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
 
 
 def optimum_dict(opt: Any) -> dict[str, Any] | None:
-    """result.json's ``optimum`` from an :class:`~hga_jax.exact.ExactResult` (or None):
+    """result.json's ``optimum`` from an :class:`~hga_jax.model.exact.ExactResult` (or None):
     ``touched`` in the files' format, obstacles numbered from 1."""
     if opt is None:
         return None

@@ -12,15 +12,15 @@ circle), the way TSP moves act on a tour:
   place of the sequence;
 - ``shift`` (or-opt): move one touched obstacle, with its label, to a random place;
 - ``repair``: pick one leg of the path that runs through an obstacle (per-leg
-  information, :mod:`hga_jax.legs`) and wrap that obstacle, in a random
+  information, :mod:`hga_jax.model.legs`) and wrap that obstacle, in a random
   direction, between the leg's two circles; without a blocked leg, an ``insert``;
 - :func:`wrap_blockers` builds a whole path that way from the direct one (the
   GA's ``seeding``);
 - ``mixed``: one of the five above, uniformly.
 
-Conventions (as :mod:`hga_jax.perm_ops`): every move works on ONE chromosome,
+Conventions (as :mod:`hga_jax.search.perm_ops`): every move works on ONE chromosome,
 ``perm`` (n,) and *positional* labels (n + 2,) (docs/model.md), and returns the
-pair; it takes a key and the scenario's :class:`~hga_jax.legs.Legs` (only
+pair; it takes a key and the scenario's :class:`~hga_jax.model.legs.Legs` (only
 ``repair`` reads it); shapes depend on ``n`` only; pure, jit- and vmap-able. A
 move that has nothing to act on (``drop`` with no touched obstacle, say) returns
 the chromosome unchanged. Moving an obstacle from position ``j`` to position
@@ -35,7 +35,7 @@ import jax
 import jax.numpy as jnp
 from jax import Array
 
-from .decode import position_circles
+from hga_jax.model.decode import position_circles
 from .perm_ops import _take, int_from_words, register
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
@@ -105,8 +105,8 @@ def shift(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Arr
 
 
 def path_circles(perm: Array, labels: Array) -> tuple[Array, Array]:
-    """Circle ids (:mod:`hga_jax.tangents`) of the positions (n + 2,) and touched mask:
-    :func:`hga_jax.decode.position_circles` for one chromosome."""
+    """Circle ids (:mod:`hga_jax.model.tangents`) of the positions (n + 2,) and touched mask:
+    :func:`hga_jax.model.decode.position_circles` for one chromosome."""
     ids, touched = position_circles(perm[None], labels[None])
     return ids[:, 0], touched[:, 0]
 

@@ -25,8 +25,8 @@ import math
 import os
 from dataclasses import dataclass
 
-from .errors import ConfigError
-from .settings import GASettings
+from hga_jax.errors import ConfigError
+from hga_jax.search.settings import GASettings
 
 CHROMOSOMES_PER_CHUNK = 50_000  # beyond this the working set leaves the cache
 # From 40 obstacles on, a chromosome's genes and the turn table crowd the cache sooner:
@@ -85,9 +85,9 @@ def device_bytes(n: int, settings: GASettings, chunk: int, block: int) -> int:
 
 
 def table_bytes(n: int, settings: GASettings) -> int:
-    """The scenario's turn table (:mod:`hga_jax.turns`), held once: two floats per turn
+    """The scenario's turn table (:mod:`hga_jax.model.turns`), held once: two floats per turn
     in the search precision, and the float64 table it is cast from."""
-    from . import turns
+    from hga_jax.model import turns
 
     if not turns.fits(n):
         return 0

@@ -15,7 +15,7 @@ every feasible directed tangent. Edges (docs/model.md, "The optimum of the model
   since the decoder counts a sweep within it of 2*pi as 0;
 - coincident start and goal circles: the arc from the start point to the goal point.
 
-Each piece is judged by the decoder's functions (:mod:`hga_jax.geometry`, float64
+Each piece is judged by the decoder's functions (:mod:`hga_jax.model.geometry`, float64
 tolerances): segments against every obstacle, arcs against every obstacle but their
 own circle (``"full"`` mode only), the field box in both modes. So a walk touching
 each obstacle at most once is feasible iff the chromosome listing its circles decodes
@@ -37,8 +37,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import geometry as g
-from .errors import ModelMismatchError
+from hga_jax.model import geometry as g
+from hga_jax.errors import ModelMismatchError
 from .path import Path, chromosome, evaluate_path
 from .scenario import Scenario
 

@@ -3,7 +3,7 @@
 On the CPU, JAX shows a process one device, and XLA runs one compiled program
 mostly on one core: a 2-core machine searched 10,000 paper-runs at about 5.6
 million evaluations/s with one device and 8.6 million/s with two (n = 100:
-0.47 -> 0.62-0.66 million/s). With several devices, :mod:`hga_jax.runner`
+0.47 -> 0.62-0.66 million/s). With several devices, :mod:`hga_jax.running.runner`
 splits each batch's runs over them; run ``k`` of seed ``s`` still depends on
 ``(s, k)`` alone, so results are bit for bit the same for any device count.
 
@@ -20,7 +20,7 @@ import os
 
 import jax
 
-from .errors import ConfigError
+from hga_jax.errors import ConfigError
 
 _FLAG = "xla_force_host_platform_device_count"
 

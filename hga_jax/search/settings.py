@@ -16,11 +16,11 @@ Probability conventions:
 the obstacle at position ``k`` of the permutation) or ``"obstacle"`` (label
 ``1 + i`` belongs to obstacle ``i`` wherever the permutation puts it, so
 crossover and mutation of the permutation keep each obstacle's turning
-direction). Path moves (:mod:`hga_jax.path_ops`, off in the paper): ``path_mutation`` names
+direction). Path moves (:mod:`hga_jax.search.path_ops`, off in the paper): ``path_mutation`` names
 a move on the touched sequence (``"none"``: no move) applied to each child with
 probability ``pm_path`` after the paper's operators. ``seeding``: the fraction of
 generation 0 (and of every restart) built by wrapping the obstacles that block
-the direct path, leg by leg (:func:`hga_jax.path_ops.wrap_blockers`) instead of
+the direct path, leg by leg (:func:`hga_jax.search.path_ops.wrap_blockers`) instead of
 drawn at random. ``restart_after = R``: at generations R, 2R, 3R, ..., a run whose best-so-far
 did not improve in the last R generations starts a new population, drawn like
 generation 0, without elites (0: never restart). The best-so-far is kept.
@@ -36,7 +36,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Sequence
 
-from .errors import ConfigError
+from hga_jax.errors import ConfigError
 
 SELECTIONS = ("roulette", "tournament")
 PERM_CROSSOVERS = ("cx", "pmx", "ox1")  # built in; more can be registered (perm_ops)
@@ -75,7 +75,7 @@ class GASettings:
 
     @property
     def uses_legs(self) -> bool:
-        """Whether the search reads the per-leg blockers (:mod:`hga_jax.legs`)."""
+        """Whether the search reads the per-leg blockers (:mod:`hga_jax.model.legs`)."""
         return self.path_mutation != "none" or self.seeding > 0
 
     def __post_init__(self) -> None:
@@ -123,7 +123,7 @@ class GASettings:
         if isinstance(w, bool) or not isinstance(w, (int, float)) or not (
                 math.isfinite(w) and w > 0):
             raise bad("penalty_weight", f"must be a finite number > 0, got {w!r}")
-        from . import label_ops, path_ops, perm_ops  # registries: built-in and registered
+        from hga_jax.search import label_ops, path_ops, perm_ops
 
         for key, allowed in (
             ("selection", SELECTIONS),

@@ -2,7 +2,7 @@
 
 ``run``: ``result.json``, ``history.csv`` and, with plots, ``path.png`` and
 ``convergence.png``. ``exact``: ``result.json`` (same schema, no runs) and, with
-plots, ``path.png``. Files are written by :mod:`hga_jax.output`: atomically, and
+plots, ``path.png``. Files are written by :mod:`hga_jax.host.output`: atomically, and
 one result per folder. Obstacles are numbered from 1; percentages have two
 decimals; counts have thousands separators (docs/model.md).
 """
@@ -13,13 +13,13 @@ from typing import Any
 
 import numpy as np
 
-from .errors import ConfigError
-from .fitness import fitness_of, length_of_fitness
+from hga_jax.errors import ConfigError
+from hga_jax.model.fitness import fitness_of, length_of_fitness
 from .output import csv_writer, figure_writer, json_writer, write_result
-from .path import touch_list
+from hga_jax.model.path import touch_list
 from .results import RunsResult, json_safe, optimum_dict, result_document
-from .scenario import Scenario
-from .settings import GASettings
+from hga_jax.model.scenario import Scenario
+from hga_jax.search.settings import GASettings
 
 PAPER_NOTE = ("collision \"paper\": segments judged by the paper's Appendix B test, which "
               "misses a segment that starts or ends inside another model circle")
@@ -70,7 +70,7 @@ def _generations(value: float | None, runs: int, what: str) -> str:
 
 def _full_test_note(scenario: Scenario, path: Any) -> str:
     """For a path judged with collision "paper": what the full test says of it."""
-    from .path import evaluate_path, from_chromosome
+    from hga_jax.model.path import evaluate_path, from_chromosome
 
     if path is None:
         return PAPER_NOTE
@@ -274,7 +274,7 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
     or solved now if the file has none). Violations are marked.
     """
     from .config import scenario_from_dict
-    from .path import evaluate_path, from_chromosome
+    from hga_jax.model.path import evaluate_path, from_chromosome
     from .plots import plot_path
 
     data = load_result(path)
@@ -305,7 +305,7 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
     if with_optimum:
         opt = data["optimum"]
         if opt is None:
-            from .exact import solve
+            from hga_jax.model.exact import solve
 
             solved = solve(sc, collision)
             opt = {"feasible": solved.feasible, "length": solved.length,

@@ -1,7 +1,7 @@
 """The turn table of a scenario: every turn of a path, with the tangent that leaves it, judged once.
 
 A tight-rope path is a chain of oriented circles ``c_0 (start), c_1, ..., c_m (goal)``
-(ids of :mod:`hga_jax.tangents`). Its length is the sum, over the circles, of the
+(ids of :mod:`hga_jax.model.tangents`). Its length is the sum, over the circles, of the
 arc on ``c_k`` from where the tangent ``c_{k-1} -> c_k`` arrives to where the tangent
 ``c_k -> c_{k+1}`` leaves, plus that leaving tangent; its violations add up the same
 way. When no two circles that can follow one another share a centre, an arrival
@@ -11,17 +11,17 @@ is computed here once per scenario:
 
 ``length[a, b, c] = r_b * sweep + |tangent b -> c|`` and
 ``violations[a, b, c]`` = the arc's violations (obstacles other than b's own, the
-field) + the tangent's (:mod:`hga_jax.tangents`),
+field) + the tangent's (:mod:`hga_jax.model.tangents`),
 
 with ``a = C`` standing for the start point (the first arc begins there) and
 ``c = C`` for the goal point (the last arc ends there, and no tangent follows). A
 path's length is then ``sum_k length[c_{k-1}, c_k, c_{k+1}]``: one lookup per
 circle of the path, whatever the number of obstacles. The sums equal
-:func:`hga_jax.decode.decode_batch`'s (tested chromosome by chromosome); a scenario
+:func:`hga_jax.model.decode.decode_batch`'s (tested chromosome by chromosome); a scenario
 with coincident centres that can follow one another (``usable`` is False) is
 decoded leg by leg instead.
 
-The arcs are judged with the functions of :mod:`hga_jax.geometry` in float64, each
+The arcs are judged with the functions of :mod:`hga_jax.model.geometry` in float64, each
 against the obstacles that can reach its circle at all (the others cannot come
 within their radius of any of its points). Host code (numpy); units are metres.
 """
@@ -31,7 +31,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import geometry as g
+from hga_jax.model import geometry as g
 from .tangents import TangentTable
 
 _REACH_MARGIN = 1e-3  # m: obstacles farther than this beyond reach are left out
