@@ -25,7 +25,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from hga_jax.search import label_ops, path_ops, perm_ops, rng, selection
+from hga_jax.search import label_ops, path_ops, perm_ops, registry, rng
 from hga_jax.model.fitness import evaluate
 from hga_jax.model.reductions import tree_sum
 from hga_jax.model.scenario import ScenarioArrays
@@ -147,15 +147,24 @@ def _unset(pop: Population) -> Best:
 # Generation g of a run draws ``bits(key_g, (draw_rows(n, settings), P))`` once (P the
 # population, innermost) and every part of the generation reads its own rows:
 # generation 0 the words of its permutations (n rows) and labels (n + 2 rows); a later
-# generation its selection's words (1 row, or ``tournament_size``), then a do-word and
-# two key words per pair (crossovers) or individual (mutation), and one word per label
-# gene. Pair rows use their first P // 2 columns. Operators take keys (their
-# signature), made from two words each.
+# generation its selection's words (built-ins: 1 row, or ``tournament_size``), then a
+# do-word and two key words per pair (crossovers) or individual (mutations), then the
+# label mutation's words (the built-in redraw: one word per label gene). Pair rows use
+# their first P // 2 columns. Operators without a word-reading form (registry.Operator)
+# take keys, made from two words each (selection: one key per run, from column 0).
+
+def _word_rows(kind: str, n: int, settings: GASettings) -> int:
+    """Rows of words the operator of ``kind`` chosen by ``settings`` reads: a built-in's
+    own count (registry ``rows``), else the two of its keys."""
+    op = registry.entry(kind, getattr(settings, kind))
+    return op.rows(n, settings) if op.from_words is not None else 2
+
 
 def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
     """``name -> (first row, rows)`` of a later generation's draw."""
-    parts = (("select", selection.words_per_pick(settings.selection, settings.tournament_size)),
-             ("cross_upper", 3), ("mutate_upper", 3), ("cross_lower", 3), ("redraw", n + 2))
+    parts = (("select", _word_rows("selection", n, settings)),
+             ("cross_upper", 3), ("mutate_upper", 3), ("cross_lower", 3),
+             ("mutate_lower", _word_rows("label_mutation", n, settings)))
     if settings.path_mutation != "none":
         parts += (("mutate_path", 3),)
     out, row = {}, 0
@@ -175,10 +184,7 @@ def _draw(key, n: int, settings: GASettings):
     return jax.random.bits(key, (draw_rows(n, settings), settings.population), dtype=jnp.uint32)
 
 
-def unit(words):
-    """Floats uniform on the grid ``k / 2**24`` in [0, 1) from uint32 words (top 24 bits):
-    exact in float32, so ``unit(w) < p`` is never true for p = 0 and always for p = 1."""
-    return (words >> 8).astype(jnp.float32) * jnp.float32(2.0**-24)
+unit = rng.unit  # floats uniform on k / 2**24 from words (the one rule, in rng)
 
 
 def _keys(rows):
@@ -232,22 +238,29 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         start, count = at[name]
         return words[start:start + count]
 
-    pick = selection.FROM_WORDS[settings.selection]
-    idx = pick(rows("select").T, old.fitness)
+    sel = registry.entry("selection", settings.selection)
+    if sel.from_words is not None:
+        idx = sel.from_words(rows("select").T, old.fitness)
+    else:
+        idx = sel.fn(_keys(rows("select")[:, :1])[0], old.fitness, **sel.options(settings))
     perm, labels = old.perm[idx], old.labels[idx]
     if n >= 2:
-        perm = _crossover(rows("cross_upper"), perm_ops.CROSSOVERS[settings.perm_crossover],
+        perm = _crossover(rows("cross_upper"), registry.get("perm_crossover", settings.perm_crossover),
                           settings.pc_upper, perm)
         m = rows("mutate_upper")
-        mutated = jax.vmap(perm_ops.MUTATIONS[settings.perm_mutation])(_keys(m[1:]), perm)
+        mutated = jax.vmap(registry.get("perm_mutation", settings.perm_mutation))(_keys(m[1:]), perm)
         perm = jnp.where((unit(m[0]) < settings.pm_upper)[:, None], mutated, perm)
-    labels = _crossover(rows("cross_lower"), label_ops.CROSSOVERS[settings.label_crossover],
+    labels = _crossover(rows("cross_lower"), registry.get("label_crossover", settings.label_crossover),
                         settings.pc_lower, labels)
-    mask, choice = label_ops.redraw_mask(rows("redraw").T, settings.pm_lower)
-    labels = label_ops.redraw_apply(labels, mask, choice)
+    mut = registry.entry("label_mutation", settings.label_mutation)
+    if mut.from_words is not None:
+        labels = mut.from_words(rows("mutate_lower").T, labels, settings.pm_lower)
+    else:
+        labels = jax.vmap(lambda k, l: mut.fn(k, l, settings.pm_lower))(
+            _keys(rows("mutate_lower")), labels)
     if settings.path_mutation != "none" and n >= 1:
         m, legs = rows("mutate_path"), _legs(sa)
-        move = path_ops.MOVES[settings.path_mutation]
+        move = registry.get("path_mutation", settings.path_mutation)
         pos = positional(perm, labels, settings)
         mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)
         do = (unit(m[0]) < settings.pm_path)[:, None]

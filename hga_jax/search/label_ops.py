@@ -22,7 +22,8 @@ import jax
 import jax.numpy as jnp
 from jax import Array
 
-from .perm_ops import cut_draw, int_from_words, register
+from .perm_ops import cut_draw, int_from_words
+from .rng import unit
 
 LabelCrossover = Callable[[Array, Array, Array], tuple[Array, Array]]
 
@@ -87,8 +88,7 @@ def redraw_mask(bits: Array, pm: float | Array) -> tuple[Array, Array]:
     The top 24 bits give u uniform on a grid in [0, 1) (exact in float32, so
     pm = 1 always fires and pm = 0 never); the lowest bit is the choice.
     """
-    u = (bits >> 8).astype(jnp.float32) * jnp.float32(2.0**-24)
-    return u < pm, (bits & 1) == 1
+    return unit(bits) < pm, (bits & 1) == 1
 
 
 def redraw_apply(labels: Array, mask: Array, choice: Array) -> Array:
@@ -111,14 +111,16 @@ def redraw(key: Array, labels: Array, pm: float | Array) -> Array:
     return redraw_apply(labels, *redraw_draw(key, labels.shape[-1], pm))
 
 
+def redraw_from_words(words: Array, labels: Array, pm: float | Array) -> Array:
+    """:func:`redraw` of labels ``(..., L)`` from one given uint32 word per gene."""
+    return redraw_apply(labels, *redraw_mask(words, pm))
+
+
 CROSSOVERS: dict[str, LabelCrossover] = {"two_point": two_point}
 
 
 def register_crossover(name: str, fn: LabelCrossover) -> None:
-    """Make ``fn(key, a, b) -> (c1, c2)`` usable as ``label_crossover = name``.
+    """``registry.register("label_crossover", name, fn)`` (kept for older code)."""
+    from .registry import register
 
-    ``fn`` takes one pair of label vectors of length ``L`` and returns two whose
-    genes stay in their positions' allowed sets (ends ``{-1, +1}``, others
-    ``{-1, 0, +1}``); pure, jit- and vmap-able, randomness from ``key`` alone.
-    """
-    register(CROSSOVERS, name, fn)
+    register("label_crossover", name, fn)

@@ -36,7 +36,7 @@ import jax.numpy as jnp
 from jax import Array
 
 from hga_jax.model.decode import position_circles
-from .perm_ops import _take, int_from_words, register
+from .perm_ops import _take, int_from_words
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
 
@@ -64,6 +64,11 @@ def move_apply(perm: Array, labels: Array, j: Array, i: Array, label: Array) -> 
     mid = _take(labels[1:-1], src)
     mid = jnp.where(p == i, label, mid)
     return _take(perm, src), jnp.concatenate([labels[:1], mid, labels[-1:]])
+
+
+def keep(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
+    """No move (``path_mutation = "none"``): the chromosome unchanged."""
+    return perm, labels
 
 
 def flip(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
@@ -187,6 +192,7 @@ MOVES["mixed"] = mixed
 
 
 def register_move(name: str, fn: Move) -> None:
-    """Make ``fn(key, perm, labels, legs) -> (perm, labels)`` usable as
-    ``path_mutation = name`` (conventions in the module doc)."""
-    register(MOVES, name, fn)
+    """``registry.register("path_mutation", name, fn)`` (kept for older code)."""
+    from .registry import register
+
+    register("path_mutation", name, fn)

@@ -29,6 +29,8 @@ import jax
 import jax.numpy as jnp
 from jax import Array
 
+from .rng import unit
+
 Crossover = Callable[[Array, Array, Array], tuple[Array, Array]]
 Mutation = Callable[[Array, Array], Array]
 
@@ -101,9 +103,8 @@ def uniform_int(key: Array, shape: tuple[int, ...], low: int | Array, high: int 
 
 def int_from_words(words: Array, low: int | Array, high: int | Array) -> Array:
     """:func:`uniform_int` from given uint32 words (one integer per word)."""
-    u = (words >> 8).astype(jnp.float32)
     span = jnp.asarray(high - low, jnp.float32)
-    k = jnp.floor(u * jnp.float32(2.0**-24) * span).astype(jnp.int32)
+    k = jnp.floor(unit(words) * span).astype(jnp.int32)
     return low + jnp.minimum(k, (high - low) - 1)
 
 
@@ -318,30 +319,15 @@ CROSSOVERS: dict[str, Crossover] = {"cx": cx, "pmx": pmx, "ox1": ox1}
 MUTATIONS: dict[str, Mutation] = {"inversion": inversion, "exchange": exchange}
 
 
-def register(registry: dict, name: str, fn: Callable) -> None:
-    """Add ``fn`` to ``registry`` under ``name`` (an identifier not yet taken by
-    another function); settings then accept ``name``. Used by the ``register_*``
-    functions."""
-    if not (isinstance(name, str) and name.isidentifier()):
-        raise ValueError(f"operator name must be an identifier, got {name!r}")
-    if not callable(fn):
-        raise TypeError(f"operator {name!r} must be callable, got {fn!r}")
-    if registry.get(name, fn) is not fn:
-        raise ValueError(f"operator {name!r} is already registered")
-    registry[name] = fn
-
-
 def register_crossover(name: str, fn: Crossover) -> None:
-    """Make ``fn(key, a, b) -> (c1, c2)`` usable as ``perm_crossover = name``.
+    """``registry.register("perm_crossover", name, fn)`` (kept for older code)."""
+    from .registry import register
 
-    ``fn`` follows this module's conventions: one pair of permutations of
-    ``0..n-1`` in, two permutations out, shapes depending on ``n`` only, pure
-    (jit- and vmap-able), randomness from ``key`` alone.
-    """
-    register(CROSSOVERS, name, fn)
+    register("perm_crossover", name, fn)
 
 
 def register_mutation(name: str, fn: Mutation) -> None:
-    """Make ``fn(key, p) -> p'`` usable as ``perm_mutation = name`` (conventions as
-    :func:`register_crossover`)."""
-    register(MUTATIONS, name, fn)
+    """``registry.register("perm_mutation", name, fn)`` (kept for older code)."""
+    from .registry import register
+
+    register("perm_mutation", name, fn)

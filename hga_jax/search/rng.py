@@ -95,6 +95,14 @@ IMPL = define_prng_impl(key_shape=(2,), seed=_seed, split=_split, random_bits=_r
 """The PRNG implementation: threefry2x32 with the hash unrolled."""
 
 
+def unit(words, dtype=jnp.float32):
+    """Floats uniform on the grid ``k / 2**24`` in [0, 1) from uint32 ``words`` (their top
+    24 bits), as ``dtype`` (float32 or float64). The one rule for uniform floats from
+    words: exact in either dtype, so ``unit(w) < p`` is never true for p = 0 and always
+    for p = 1, and the same word gives the same number in both."""
+    return (words >> np.uint32(8)).astype(dtype) * jnp.asarray(2.0**-24, dtype)
+
+
 def key(seed):
     """A key of this implementation for integer ``seed`` (same stream as ``jax.random.key``)."""
     return jax.random.wrap_key_data(_seed(seed), impl=IMPL)

@@ -21,6 +21,7 @@ from jax import Array
 from hga_jax.model.reductions import prefix_sum
 
 from .perm_ops import int_from_words
+from .rng import unit
 
 Selection = Callable[[Array, Array, int, int], Array]
 
@@ -41,7 +42,7 @@ def roulette_from_words(words: Array, fitness: Array) -> Array:
     The word's top 24 bits place the pick on the wheel (a grid of 2**-24 of the
     total fitness)."""
     cdf = prefix_sum(fitness)  # shape-independent rounding: run k is the same in any batch
-    u = (words[:, 0] >> 8).astype(cdf.dtype) * (2.0**-24) * cdf[-1]
+    u = unit(words[:, 0], cdf.dtype) * cdf[-1]
     # The first i with cdf[i] > u; the clip guards float rounding at the top.
     idx = jnp.searchsorted(cdf, u, side="right", method="compare_all")
     return jnp.minimum(idx, fitness.shape[-1] - 1).astype(jnp.int32)
@@ -64,11 +65,16 @@ def tournament_from_words(words: Array, fitness: Array) -> Array:
     return jnp.min(jnp.where(f == best, entrants, P), axis=-1).astype(jnp.int32)
 
 
-def words_per_pick(name: str, size: int) -> int:
-    """Random words one pick of selection ``name`` uses (roulette 1, tournament ``size``)."""
-    return size if name == "tournament" else 1
+def roulette_pick(key: Array, fitness: Array) -> Array:
+    """:func:`roulette` in the registry's form: one parent per individual, ``(P,)``."""
+    return roulette(key, fitness, fitness.shape[-1])
+
+
+def tournament_pick(key: Array, fitness: Array, tournament_size: int = 2) -> Array:
+    """:func:`tournament` in the registry's form: one parent per individual, ``(P,)``."""
+    return tournament(key, fitness, fitness.shape[-1], tournament_size)
 
 
 SELECTIONS: dict[str, Selection] = {"roulette": roulette, "tournament": tournament}
-FROM_WORDS: dict[str, Callable[[Array, Array], Array]] = {
-    "roulette": roulette_from_words, "tournament": tournament_from_words}
+"""The built-in selections in this module's ``(key, fitness, count, size)`` form (the
+settings' names are :func:`hga_jax.search.registry.names`)."""

@@ -3,7 +3,9 @@
 Defaults are the paper's (section 4): population 50, 50 generations,
 ``pc = 0.4`` and ``pm = 0.02`` for both modules, roulette selection, cycle
 crossover and inversion mutation on the permutation, two-point crossover on the
-labels, no elitism.
+labels, per-gene redraw of the labels, no elitism. Operator names
+(``selection``, ``perm_crossover``, ``perm_mutation``, ``label_crossover``,
+``label_mutation``, ``path_mutation``) are those of :mod:`hga_jax.search.registry`.
 
 Probability conventions:
 - ``pc_upper`` / ``pc_lower``: per *pair* of selected parents, the chance that the
@@ -38,11 +40,6 @@ from typing import Any, Callable, Mapping, Sequence
 
 from hga_jax.errors import ConfigError
 
-SELECTIONS = ("roulette", "tournament")
-PERM_CROSSOVERS = ("cx", "pmx", "ox1")  # built in; more can be registered (perm_ops)
-PERM_MUTATIONS = ("inversion", "exchange")
-PATH_MUTATIONS = ("none", "flip", "drop", "insert", "shift", "repair", "mixed")  # path_ops
-LABEL_CROSSOVERS = ("two_point",)
 LABEL_BINDINGS = ("position", "obstacle")
 COLLISIONS = ("full", "paper")
 PRECISIONS = ("float32", "float64")
@@ -63,6 +60,7 @@ class GASettings:
     perm_crossover: str = "cx"
     perm_mutation: str = "inversion"
     label_crossover: str = "two_point"
+    label_mutation: str = "redraw"
     elites: int = 0
     collision: str = "full"
     precision: str = "float32"
@@ -123,18 +121,14 @@ class GASettings:
         if isinstance(w, bool) or not isinstance(w, (int, float)) or not (
                 math.isfinite(w) and w > 0):
             raise bad("penalty_weight", f"must be a finite number > 0, got {w!r}")
-        from hga_jax.search import label_ops, path_ops, perm_ops
+        from hga_jax.search import registry
 
-        for key, allowed in (
-            ("selection", SELECTIONS),
-            ("perm_crossover", tuple(perm_ops.CROSSOVERS)),
-            ("perm_mutation", tuple(perm_ops.MUTATIONS)),
-            ("label_crossover", tuple(label_ops.CROSSOVERS)),
-            ("path_mutation", ("none",) + tuple(path_ops.MOVES)),
+        choices = [(kind, registry.names(kind)) for kind in registry.KINDS]
+        for key, allowed in choices + [
             ("label_binding", LABEL_BINDINGS),
             ("collision", COLLISIONS),
             ("precision", PRECISIONS),
-        ):
+        ]:
             v = getattr(self, key)
             if v not in allowed:
                 raise bad(key, f"must be one of {', '.join(allowed)}, got {v!r}")
@@ -209,6 +203,21 @@ def preset(name: str, source: str = "<preset>") -> GASettings:
     if name not in PRESETS:
         raise ConfigError(f"{source}: preset: must be one of {', '.join(PRESETS)}, got {name!r}")
     return PRESETS[name]
+
+
+_VIEWS = {"SELECTIONS": "selection", "PERM_CROSSOVERS": "perm_crossover",
+          "PERM_MUTATIONS": "perm_mutation", "LABEL_CROSSOVERS": "label_crossover",
+          "LABEL_MUTATIONS": "label_mutation", "PATH_MUTATIONS": "path_mutation"}
+
+
+def __getattr__(name: str):
+    """``SELECTIONS``, ``PERM_CROSSOVERS``, ...: the registry's names of that kind now
+    (:func:`hga_jax.search.registry.names`), kept for older imports."""
+    if name in _VIEWS:
+        from hga_jax.search import registry
+
+        return registry.names(_VIEWS[name])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _dotted(prefix: str, key: str) -> str:
