@@ -2,9 +2,13 @@
 ``check`` (validate files), ``plot`` (redraw a result file) and ``study`` (a grid of
 settings over scenes; :mod:`hga_jax.study.cli`).
 
-Settings are layered: the paper's defaults, the scenario's ``[ga]`` table, a
-``--ga`` TOML file (top-level keys are settings), then command-line flags; an
-error names the source of each value it involves. Bad input ends with one line
+Settings are layered: the preset's, the scenario's ``[ga]`` table, a ``--ga``
+TOML file (top-level keys are settings), then command-line flags; an error names
+the source of each value it involves (:mod:`hga_jax.host.validation`). Operators
+are named from :mod:`hga_jax.search.registry`: ``--plugin FILE.py`` (or a module
+name; repeatable) and a ``--ga`` file's ``plugins = [...]`` (paths relative to
+that file) are imported first, so operators they register can be named too, and
+``run`` records them in result.json (``plugins``). Bad input ends with one line
 ``hga-jax: error: <file>: <key>: <problem>`` and exit status 2, before anything
 is written. Result files are written before anything is printed, and a folder
 holds one result: an earlier result is only replaced with ``--force``.
@@ -33,29 +37,36 @@ import tomllib
 from typing import Any, Callable, Iterator, Sequence
 
 from hga_jax import __version__
-from hga_jax.running import devices
-from .config import load_scenario
 from hga_jax.errors import ConfigError, Interrupted, ModelMismatchError
-from hga_jax.search.settings import (COLLISIONS, PAPER, PATH_MUTATIONS, PERM_CROSSOVERS, PERM_MUTATIONS,
-                       PRECISIONS, PRESETS, RECOMMENDED, SELECTIONS, GASettings)
+from hga_jax.running import devices
+from hga_jax.search import registry
+from hga_jax.search.settings import COLLISIONS, PAPER, PRECISIONS, PRESETS, RECOMMENDED, GASettings
 from hga_jax.study import cli as study_cli
 
+from . import validation
+from .config import load_scenario
+
 DEFAULT_SCENARIO = os.path.join("configs", "scenarios", "robocup_paper.toml")
-GA_FLAGS = {  # setting -> (type, choices, help)
+OPERATOR_HELP = {  # operator kind (a setting, registry.KINDS) -> help
+    "selection": "parent selection",
+    "perm_crossover": "crossover of the permutation",
+    "perm_mutation": "mutation of the permutation",
+    "label_crossover": "crossover of the labels",
+    "label_mutation": "mutation of the labels",
+    "path_mutation": "move on the touched sequence applied to children (none: off)",
+}
+GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "registry"
     "population": (int, None, "individuals per run"),
     "generations": (int, None, "generations after the random initial one"),
     "pc_upper": (float, None, "crossover probability per pair of parents, permutation"),
     "pm_upper": (float, None, "mutation probability per individual, permutation"),
     "pc_lower": (float, None, "crossover probability per pair of parents, labels"),
     "pm_lower": (float, None, "mutation probability per gene, labels"),
-    "selection": (str, SELECTIONS, "parent selection"),
     "tournament_size": (int, None, "tournament size (with --selection tournament)"),
-    "perm_crossover": (str, PERM_CROSSOVERS, "crossover of the permutation"),
-    "perm_mutation": (str, PERM_MUTATIONS, "mutation of the permutation"),
     "elites": (int, None, "best individuals kept from one generation to the next"),
     "collision": (str, COLLISIONS, "collision test: full, or the paper's Appendix B test"),
-    "path_mutation": (str, PATH_MUTATIONS, "move on the touched sequence "
-                      "applied to children (none: off)"),
+    **{kind: (str, "registry", OPERATOR_HELP.get(kind, kind.replace("_", " ")))
+       for kind in registry.KINDS},
     "pm_path": (float, None, "probability per child of the path move"),
     "seeding": (float, None, "fraction of generation 0 (and restarts) built by wrapping "
                 "obstacles that block the direct path"),
@@ -66,10 +77,11 @@ GA_FLAGS = {  # setting -> (type, choices, help)
 
 
 class _Help(argparse.ArgumentDefaultsHelpFormatter):
-    """Shows ``(default: X)`` where there is a default to show (not None or False)."""
+    """Shows ``(default: X)`` where there is a default to show (not None, False or [])."""
 
     def _get_help_string(self, action: argparse.Action) -> str:
-        if action.default is None or action.default is False or action.default == argparse.SUPPRESS:
+        if action.default is None or action.default is False or action.default in (
+                [], argparse.SUPPRESS):
             return action.help or ""
         return super()._get_help_string(action)
 
@@ -99,10 +111,17 @@ def _parser() -> argparse.ArgumentParser:
     g = run.add_argument_group("GA settings", "override the scenario's [ga] table and --ga; "
                                "unset flags keep those (the paper's value is shown)")
     for key, (kind, choices, text) in GA_FLAGS.items():
-        g.add_argument("--" + key.replace("_", "-"), type=kind, choices=choices,
-                       metavar=None if choices else ("P" if kind is float else "N"),
+        # Operators are checked after parsing (GASettings reads the registry, which a
+        # --plugin adds to); the help lists the ones registered now.
+        named = choices == "registry"
+        tail = (f"; registered: {', '.join(registry.names(key))}, or one a --plugin registers"
+                if named else "")
+        g.add_argument(validation.flag(key), type=kind, choices=None if named else choices,
+                       metavar="NAME" if named else None if choices else (
+                           "P" if kind is float else "N"),
                        help=f"{text} (recommended: {getattr(RECOMMENDED, key)}, "
-                            f"paper: {getattr(PAPER, key)})")
+                            f"paper: {getattr(PAPER, key)}){tail}")
+    _plugin_arg(run)
     run.add_argument("--chunk", type=int, metavar="N", help="runs per compiled batch (default: "
                      "about 50,000 chromosomes per batch, fewer if memory is short)")
     devices.add_option(run)
@@ -129,6 +148,7 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("scenario", help="scenario TOML file")
     ex.add_argument("--collision", choices=COLLISIONS,
                     help="collision test (default: the scenario's [ga] collision, else full)")
+    _plugin_arg(ex)
     _output_args(ex, "results/<scenario file name>-exact")
 
     ck = sub.add_parser("check", help="validate scenario (and --ga) files and exit",
@@ -136,6 +156,7 @@ def _parser() -> argparse.ArgumentParser:
                         "a --ga file on top of each); one line per file; exit 2 if any is bad.")
     ck.add_argument("scenario", nargs="+", help="scenario TOML files")
     ck.add_argument("--ga", metavar="GA.toml", help="GA settings file to check as well")
+    _plugin_arg(ck)
 
     pl = sub.add_parser("plot", help="redraw a path from a result.json", formatter_class=_Help,
                         description="Redraw the best path of a result file, or run K's, "
@@ -149,9 +170,17 @@ def _parser() -> argparse.ArgumentParser:
                     "path_run<K>.png with --run, beside the result file)")
     pl.add_argument("--force", action="store_true", help="replace an existing PNG")
     pl.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on disk")
+    _plugin_arg(pl)
 
     study_cli.add_parser(sub)  # hga-jax study: see hga_jax/study/cli.py
     return p
+
+
+def _plugin_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--plugin", action="append", default=[], metavar="FILE.py",
+                   help="Python file (or module name) imported first, which may register "
+                   "operators (hga_jax.search.registry.register; docs/operators.md); "
+                   "repeatable")
 
 
 def _output_args(p: argparse.ArgumentParser, default_out: str) -> None:
@@ -166,26 +195,41 @@ def _output_args(p: argparse.ArgumentParser, default_out: str) -> None:
                    "disk (default: $HGA_JAX_CACHE_DIR or ~/.cache/hga-jax/xla)")
 
 
-def _ga_table(path: str) -> dict[str, Any]:
+def _ga_file(path: str) -> tuple[dict[str, Any], list[str]]:
+    """A --ga file's settings (its top-level keys) and its ``plugins`` (paths relative
+    to the file, joined to its folder; module names as written)."""
     try:
         with open(path, "rb") as fh:
-            return tomllib.load(fh)
+            table = tomllib.load(fh)
     except OSError as e:
-        raise ConfigError(f"{path}: file: cannot read: {e.strerror or e}") from None
+        raise validation.error(path, "file", f"cannot read: {e.strerror or e}") from None
     except tomllib.TOMLDecodeError as e:
-        raise ConfigError(" ".join(f"{path}: toml: syntax error: {e}".splitlines())) from None
+        raise validation.error(path, "toml", f"syntax error: {e}") from None
+    plugins = validation.strings(table.pop("plugins", []), path, "plugins")
+    here = os.path.dirname(path)
+    return table, [os.path.normpath(os.path.join(here, p)) if validation.is_file(p) else p
+                   for p in plugins]
+
+
+def _plugins(args) -> list[str]:
+    """Import the command's plugins (``--plugin``, then the --ga file's), before any
+    settings are read; returns them in that order."""
+    loaded = validation.load_plugins(args.plugin, "command line", "--plugin")
+    if getattr(args, "ga", None):
+        ga_plugins = _ga_file(args.ga)[1]
+        loaded += validation.load_plugins(ga_plugins, args.ga, lambda i: f"plugins[{i}]")
+    return loaded
 
 
 def _settings(scenario, ga_path: str | None, flags: dict[str, Any],
               base: GASettings | None = None) -> GASettings:
     """The layered settings: ``base`` (a preset; default the paper's), scenario [ga],
     --ga file, flags (None: unset)."""
-    layers = [(scenario.ga, scenario.source, lambda k: f"ga.{k}")]
+    layers = [validation.file_layer(scenario.ga, scenario.source, "ga")]
     if ga_path:
-        layers.append((_ga_table(ga_path), ga_path, lambda k: k))
-    layers.append(({k: v for k, v in flags.items() if v is not None}, "command line",
-                   lambda k: "--" + k.replace("_", "-")))
-    return GASettings.layered(layers, base)
+        layers.append(validation.file_layer(_ga_file(ga_path)[0], ga_path))
+    layers.append(validation.flag_layer(flags))
+    return validation.settings(layers, base)
 
 
 def _default_out(scenario_path: str, suffix: str = "") -> str:
@@ -234,21 +278,13 @@ def _emit(text: str) -> None:
         raise _StdoutError(e) from None
 
 
-def _check_run_flags(args) -> None:
-    for flag, value, low, high in (("--runs", args.runs, 1, 2**31),
-                                   ("--first-run", args.first_run, 0, 2**31 - max(args.runs, 1)),
-                                   ("--seed", args.seed, 0, 2**32),
-                                   ("--chunk", 1 if args.chunk is None else args.chunk, 1, 2**31)):
-        if not low <= value < high:
-            raise ConfigError(f"command line: {flag}: must be in {low:,}..{high - 1:,}, "
-                              f"got {value:,}")
-
-
 def _cmd_run(args) -> int:
+    plugins = _plugins(args)
     scenario = load_scenario(args.scenario)
     settings = _settings(scenario, args.ga, {k: getattr(args, k) for k in GA_FLAGS},
                          PRESETS[args.preset])
-    _check_run_flags(args)
+    validation.run_range(args.seed, args.runs, args.first_run, args.chunk, "command line",
+                         validation.flag, grouped=True)
     joined = args.distributed or any(v is not None for v in (
         args.coordinator, args.num_processes, args.process_id))
     from hga_jax.running import distributed
@@ -277,6 +313,7 @@ def _cmd_run(args) -> int:
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet,
                    preset=args.preset)
+    res.plugins = tuple(plugins)
     if jax.process_index() != 0:  # process 0 writes and prints the result
         return 0
     with _ctrl_c_deferred():
@@ -290,6 +327,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_exact(args) -> int:
+    _plugins(args)
     scenario = load_scenario(args.scenario)
     collision = args.collision or _settings(scenario, None, {}).collision
     out = args.out or _default_out(args.scenario, "-exact")
@@ -314,6 +352,7 @@ def _cmd_exact(args) -> int:
 def _cmd_check(args) -> int:
     from .report import count
 
+    plugins = _plugins(args)
     bad = 0
     ga_ok = args.ga is not None
     for path in args.scenario:
@@ -332,9 +371,11 @@ def _cmd_check(args) -> int:
                 _error(str(e))
                 ga_ok, bad = False, bad + 1
     if args.ga and ga_ok:
-        keys = _ga_table(args.ga)
+        keys = _ga_file(args.ga)[0]
         shown = ", ".join(f"{k} = {v}" for k, v in keys.items()) or "no settings"
         _emit(f"{args.ga}: ok (GA settings: {shown})")
+    if plugins and not bad:
+        _emit(f"plugins: {', '.join(plugins)}: ok (imported)")
     return 2 if bad else 0
 
 
@@ -342,6 +383,7 @@ def _cmd_plot(args) -> int:
     from .output import atomic_write, figure_writer
     from .report import redraw
 
+    _plugins(args)
     folder = os.path.dirname(args.result) or "."
     out = args.out or os.path.join(folder, "path.png" if args.run is None
                                    else f"path_run{args.run}.png")

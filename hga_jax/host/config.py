@@ -10,6 +10,7 @@ radians in the returned :class:`~hga_jax.model.scenario.Scenario`)::
     [[obstacles]] x, y, radius (optional, default: the robot's radius)
     [field]      xmin, xmax, ymin, ymax, keep_inside (optional, default false)
     [ga]         GA settings, checked by :class:`~hga_jax.search.settings.GASettings`
+                 (operators it names must be registered first: plugins load before)
 
 ``obstacles``, ``field`` and ``ga`` may be absent. Every problem raises
 :class:`~hga_jax.errors.ConfigError` with one line ``"<source>: <key>: <problem>"``
@@ -28,9 +29,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from hga_jax.errors import ConfigError
 from hga_jax.model.scenario import Field, Scenario
-from hga_jax.search.settings import GASettings
+from hga_jax.host import validation
 
 TOL = 1e-9  # metres: a point counts as inside a circle only by more than this
 
@@ -50,9 +50,7 @@ FIELD: Spec = {
 }
 
 
-def _error(source: str, key: str, problem: str) -> ConfigError:
-    """A :class:`ConfigError` with the one-line message ``source: key: problem``."""
-    return ConfigError(" ".join(f"{source}: {key}: {problem}".splitlines()))
+_error = validation.error  # ConfigError("source: key: problem"), on one line
 
 
 def _value(v: Any, kind: str, source: str, key: str) -> Any:
@@ -168,7 +166,7 @@ def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>") -> Sc
     fld = _field(top["field"], r, source) if "field" in top else None
     centres, radii = _obstacles(top.get("obstacles", ()), r, source)
     ga = dict(top.get("ga", {}))
-    GASettings.from_mapping(ga, source)
+    validation.settings([validation.file_layer(ga, source, "ga")])  # operators: plugins first
     s = Scenario(name=name, robot_radius=r, min_turn_radius=rho, start=start, goal=goal,
                  centres=centres, radii=radii, field=fld, ga=ga, source=source)
     _check_pose(s, "start", start)

@@ -49,6 +49,7 @@ class RunsResult:
     evaluations: int = 0
     preset: str | None = None  # the preset the settings were built on (None: not said)
     devices: int = 1  # devices the search was spread over (all processes')
+    plugins: tuple[str, ...] = ()  # plugins imported for the settings (hga-jax run --plugin)
 
     @property
     def feasible(self) -> np.ndarray:
@@ -147,6 +148,7 @@ class RunsResult:
             "seed": self.seed,
             "runs": [int(self.run_ids[0]), int(self.run_ids[-1])],
             "preset": self.preset,
+            **({"plugins": list(self.plugins)} if self.plugins else {}),
             "settings": asdict(self.settings),
             "best": {"run": self.best_run, **self.best.to_dict()},
             "optimum": optimum_dict(self.optimum),

@@ -124,12 +124,9 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
-    for key, value, low, high in (("seed", seed, 0, 2**32), ("runs", runs, 1, 2**31),
-                                  ("first_run", first_run, 0, 2**31 - runs),
-                                  ("chunk", 1 if chunk is None else chunk, 1, 2**31)):
-        if not (isinstance(value, (int, np.integer)) and low <= value < high):
-            raise ConfigError(f"run_many: {key}: must be an integer in {low}..{high - 1}, "
-                              f"got {value!r}")
+    from hga_jax.host import validation
+
+    validation.run_range(seed, runs, first_run, chunk, "run_many")
     procs, me = jax.process_count(), jax.process_index()
     if procs == 1:
         found = _search(scenario, settings, seed, first_run, runs, chunk, progress)

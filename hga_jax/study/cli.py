@@ -1,4 +1,7 @@
-"""The ``hga-jax study`` subcommand (kept apart from the other commands)."""
+"""The ``hga-jax study`` subcommand (kept apart from the other commands).
+
+The study file names its own plugins (``plugins = [...]``, :mod:`hga_jax.study.config`);
+options are checked by :mod:`hga_jax.host.validation` like the other commands'."""
 from __future__ import annotations
 
 import argparse
@@ -31,10 +34,10 @@ def run(args: argparse.Namespace) -> int:
         from hga_jax.running.runner import enable_compilation_cache
 
         enable_compilation_cache()
-    if args.scenes is not None and args.scenes < 1:
-        from hga_jax.errors import ConfigError
+    if args.scenes is not None:
+        from hga_jax.host import validation
 
-        raise ConfigError(f"command line: --scenes: must be >= 1, got {args.scenes}")
+        validation.at_least(args.scenes, "command line", "--scenes", 1)
     outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,
                         progress=False if args.quiet else None)
     print(f"study {outcome.study.name}: {len(outcome.docs)} cells "

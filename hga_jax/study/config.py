@@ -23,7 +23,6 @@ raises :class:`~hga_jax.errors.ConfigError` naming the file and key.
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import itertools
 import os
 import tomllib
@@ -31,6 +30,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from hga_jax.errors import ConfigError
+from hga_jax.host import validation
 from hga_jax.search.settings import GASettings
 
 TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses", "ga",
@@ -74,8 +74,7 @@ class Study:
     quick: bool = False
 
 
-def _err(source: str, key: str, problem: str) -> ConfigError:
-    return ConfigError(" ".join(f"{source}: {key}: {problem}".splitlines()))
+_err = validation.error
 
 
 def _keys(table: Any, allowed: set[str], source: str, where: str) -> Mapping[str, Any]:
@@ -89,15 +88,10 @@ def _keys(table: Any, allowed: set[str], source: str, where: str) -> Mapping[str
 
 
 def _int(v: Any, source: str, key: str, low: int, high: int = 2**31) -> int:
-    if isinstance(v, bool) or not isinstance(v, int) or not low <= v < high:
-        raise _err(source, key, f"must be an integer in {low}..{high - 1}, got {v!r}")
-    return v
+    return validation.integer(v, source, key, low, high)
 
 
-def _strings(v: Any, source: str, key: str) -> list[str]:
-    if not isinstance(v, list) or not all(isinstance(s, str) and s for s in v):
-        raise _err(source, key, f"must be a list of non-empty strings, got {v!r}")
-    return v
+_strings = validation.strings
 
 
 def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
@@ -122,7 +116,7 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
         raise _err(source, f"{where}.density", f"must be a number in (0, 20) obstacles per "
                    f"square metre, got {density!r}")
     return Family(t["name"], t["kind"], obs, scenes,
-                  _int(t.get("seed", 0), source, f"{where}.seed", 0, 2**32),
+                  _int(t.get("seed", 0), source, f"{where}.seed", *validation.SEED),
                   None if density is None else float(density))
 
 
@@ -144,33 +138,12 @@ def _grid(t: Any, i: int, source: str, base: GASettings, key: str) -> list[Confi
                    f"{len(points)}")
     out = []
     for point in points:
-        s = GASettings.from_mapping(dict(zip(names, point)), source, prefix=where, base=base)
+        s = validation.settings([validation.file_layer(dict(zip(names, point)), source, where)],
+                               base)
         varied = [f"{k}={v}" for k, v, vs in zip(names, point, values)
                   if len(vs) > 1 or len(points) == 1]
         out.append(Config(label or ", ".join(varied) or "base", s))
     return out
-
-
-def load_plugins(paths: list[str], source: str) -> None:
-    """Import each Python file once (it may register operators, see ``perm_ops``)."""
-    import importlib.util
-    import sys
-
-    for i, path in enumerate(paths):
-        name = "hga_jax_plugin_" + hashlib.sha1(path.encode()).hexdigest()[:12]
-        if name in sys.modules:
-            continue
-        try:
-            spec = importlib.util.spec_from_file_location(name, path)
-            if spec is None or spec.loader is None:
-                raise ImportError("not a Python file")
-            module = importlib.util.module_from_spec(spec)
-            sys.modules[name] = module
-            spec.loader.exec_module(module)
-        except Exception as e:  # the user's code: report it on one line
-            sys.modules.pop(name, None)
-            raise _err(source, f"plugins[{i}]", f"cannot import {path}: "
-                       f"{type(e).__name__}: {e}") from None
 
 
 def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Study:
@@ -195,7 +168,7 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
     q = _keys(data.get("quick", {}), QUICK, source, "quick") if quick else {}
     runs = _int(q.get("runs", data["runs"]), source, "quick.runs" if "runs" in q else "runs",
                 1, 1_000_001)
-    seed = _int(data.get("seed", 0), source, "seed", 0, 2**32)
+    seed = _int(data.get("seed", 0), source, "seed", *validation.SEED)
     here = os.path.dirname(os.path.abspath(source))
     skey = "quick.scenarios" if "scenarios" in q else "scenarios"
     scen = [os.path.normpath(os.path.join(here, p))
@@ -216,13 +189,13 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
         raise _err(source, "families", "two families share a name")
     if not scen and not families:
         raise _err(source, "scenarios", "a study needs scenarios or families")
-    load_plugins(plugins, source)
+    validation.load_plugins(plugins, source, lambda i: f"plugins[{i}]")
     ga = _keys(data.get("ga", {}), {f.name for f in dataclasses.fields(GASettings)}, source, "ga")
-    base = GASettings.from_mapping(ga, source)
+    base = validation.settings([validation.file_layer(ga, source, "ga")])
     if "ga" in q:
-        base = GASettings.from_mapping(_keys(q["ga"], set(ga) | {
-            f.name for f in dataclasses.fields(GASettings)}, source, "quick.ga"),
-            source, prefix="quick.ga", base=base)
+        quick_ga = _keys(q["ga"], set(ga) | {f.name for f in dataclasses.fields(GASettings)},
+                         source, "quick.ga")
+        base = validation.settings([validation.file_layer(quick_ga, source, "quick.ga")], base)
     key = "quick.configs" if "configs" in q else "configs"
     tables = q.get("configs", data.get("configs", [{}]))
     if not isinstance(tables, list) or not tables:
