@@ -1,7 +1,6 @@
 """Studies end to end: the --quick studies' outputs checked by value, resuming after a
 kill, and an operator registered from outside the package taking part in a study."""
 import csv
-import importlib.util
 import json
 import math
 import os
@@ -13,7 +12,7 @@ import time
 import numpy as np
 import pytest
 
-from hga_jax.search import perm_ops
+from hga_jax.search import registry
 from hga_jax.host.config import load_scenario
 from hga_jax.model.exact import solve
 from hga_jax.model.path import decode64
@@ -24,11 +23,11 @@ from hga_jax.study import run_study, stats
 ROBOCUP = os.path.abspath("configs/scenarios/robocup_paper.toml")
 
 
-def _script(name):
-    spec = importlib.util.spec_from_file_location(name, os.path.join("experiments", name + ".py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+def _study(name, *options):
+    """``hga-jax study configs/studies/<name>.toml OPTIONS``: its exit status."""
+    from hga_jax.host.cli import main
+
+    return main(["study", os.path.join("configs", "studies", name + ".toml"), *options])
 
 
 def _csv(path):
@@ -43,7 +42,7 @@ def _num(v):
 @pytest.fixture(scope="module")
 def paper_quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("reproduce")
-    assert _script("reproduce_paper").main(["--quick", "--out", str(out), "--quiet"]) == 0
+    assert _study("reproduce_paper", "--quick", "--out", str(out), "--quiet") == 0
     return out
 
 
@@ -114,7 +113,7 @@ def test_reproduce_paper_quick_summary_and_claims(paper_quick):
 
 
 def test_operator_study_quick_compares_with_holm(tmp_path):
-    assert _script("operator_study").main(["--quick", "--out", str(tmp_path), "--quiet"]) == 0
+    assert _study("operator_study", "--quick", "--out", str(tmp_path), "--quiet") == 0
     rows = _csv(tmp_path / "runs.csv")
     summary = _csv(tmp_path / "summary.csv")
     assert {r["config"] for r in rows} == {"paper", "pmx + elitism 1"}
@@ -136,7 +135,7 @@ def test_operator_study_quick_compares_with_holm(tmp_path):
 
 
 def test_penalty_and_collision_quick_counts_accepted_collisions(tmp_path):
-    assert _script("penalty_and_collision").main(["--quick", "--out", str(tmp_path), "--quiet"]) == 0
+    assert _study("penalty_and_collision", "--quick", "--out", str(tmp_path), "--quiet") == 0
     rows = _csv(tmp_path / "runs.csv")
     table = _csv(tmp_path / "penalty.csv")
     paper_rows = [r for r in rows if r["collision"] == "paper"]
@@ -157,7 +156,7 @@ def test_penalty_and_collision_quick_counts_accepted_collisions(tmp_path):
 
 
 def test_scaling_quick_reports_times(tmp_path):
-    assert _script("scaling").main(["--quick", "--out", str(tmp_path), "--quiet"]) == 0
+    assert _study("scaling", "--quick", "--out", str(tmp_path), "--quiet") == 0
     table = _csv(tmp_path / "scaling.csv")
     assert [int(t["obstacles"]) for t in table] == [5, 9]
     rows = _csv(tmp_path / "runs.csv")
@@ -227,7 +226,7 @@ def test_a_killed_study_resumes_without_losing_or_repeating(tmp_path):
 
 
 PLUGIN = '''
-from hga_jax.search import perm_ops
+from hga_jax.search import registry
 
 
 def keep_parents(key, a, b):
@@ -235,7 +234,7 @@ def keep_parents(key, a, b):
     return a, b
 
 
-perm_ops.register_crossover("keep_parents", keep_parents)
+registry.register("perm_crossover", "keep_parents", keep_parents)
 '''
 
 CUSTOM = """name = "custom"
@@ -259,7 +258,7 @@ def test_an_operator_registered_outside_the_package_takes_part(tmp_path, registr
     cfg = tmp_path / "custom.toml"
     cfg.write_text(CUSTOM.replace("{scene}", ROBOCUP))
     outcome = run_study(str(cfg), out=str(tmp_path / "out"), progress=False)
-    assert "keep_parents" in perm_ops.CROSSOVERS
+    assert "keep_parents" in registry.names("perm_crossover")
     rows = _csv(tmp_path / "out" / "runs.csv")
     none = [r for r in rows if r["config"] == "no crossover"]
     mine = [r for r in rows if r["config"] == "keep_parents always"]
@@ -268,13 +267,13 @@ def test_an_operator_registered_outside_the_package_takes_part(tmp_path, registr
     assert [r["length"] for r in mine] == [r["length"] for r in none]
     assert outcome.summary[1]["p_hit_fisher"] == 1.0
     with pytest.raises(ValueError, match="already registered"):
-        perm_ops.register_crossover("keep_parents", lambda k, a, b: (b, a))
+        registry.register("perm_crossover", "keep_parents", lambda k, a, b: (b, a))
     with pytest.raises(ValueError, match="identifier"):
-        perm_ops.register_mutation("my op", lambda k, p: p)
+        registry.register("perm_mutation", "my op", lambda k, p: p)
 
 
 def test_baselines_quick_random_search_is_one_generation(tmp_path):
-    assert _script("baselines").main(["--quick", "--out", str(tmp_path), "--quiet"]) == 0
+    assert _study("baselines", "--quick", "--out", str(tmp_path), "--quiet") == 0
     rows = _csv(tmp_path / "runs.csv")
     rs = [r for r in rows if r["config"].startswith("random search")]
     ga = [r for r in rows if r["config"] == "paper GA"]
@@ -297,7 +296,7 @@ def test_baselines_quick_random_search_is_one_generation(tmp_path):
 
 
 def test_recommended_study_quick_beats_the_paper(tmp_path):
-    assert _script("recommended").main(["--quick", "--out", str(tmp_path), "--quiet"]) == 0
+    assert _study("recommended", "--quick", "--out", str(tmp_path), "--quiet") == 0
     rows = _csv(tmp_path / "runs.csv")
     assert {r["config"] for r in rows} == {"paper", "recommended"}
     rec = [r for r in rows if r["config"] == "recommended"]
