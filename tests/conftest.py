@@ -18,10 +18,7 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.enviro
 @pytest.fixture
 def registries():
     """Restore the operator registries after a test that registers its own operators."""
-    from hga_jax.search import label_ops, perm_ops
+    from hga_jax.search import registry
 
-    saved = [(d, dict(d)) for d in (perm_ops.CROSSOVERS, perm_ops.MUTATIONS, label_ops.CROSSOVERS)]
-    yield
-    for d, copy in saved:
-        d.clear()
-        d.update(copy)
+    with registry.isolated():
+        yield

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from hga_jax.search import label_ops as lo_
+from hga_jax.search import registry
 
 LENGTHS = [3, 11, 27]  # L = n + 2 for n = 1, 9, 25
 BATCH = 256
@@ -162,8 +163,11 @@ def test_jit_vmap_equals_item_by_item():
 
 
 def test_registry():
-    assert lo_.CROSSOVERS == {"two_point": lo_.two_point}
+    assert registry.names("label_crossover")[:1] == ("two_point",)
+    assert registry.get("label_crossover", "two_point") is lo_.two_point
+    assert registry.names("label_mutation")[:1] == ("redraw",)
+    assert registry.get("label_mutation", "redraw") is lo_.redraw
     a = jnp.array([1, 0, 0, 1], jnp.int32)
     b = jnp.array([-1, 1, -1, -1], jnp.int32)
-    c1, c2 = lo_.CROSSOVERS["two_point"](jax.random.key(0), a, b)
+    c1, c2 = registry.get("label_crossover", "two_point")(jax.random.key(0), a, b)
     np.testing.assert_array_equal(np.sort(np.stack([c1, c2]), axis=0), np.sort(np.stack([a, b]), axis=0))

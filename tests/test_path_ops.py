@@ -1,6 +1,6 @@
 """Moves on the touched sequence (hga_jax/search/path_ops.py) and the per-leg blockers they
 read (hga_jax/model/legs.py): worked examples, a numpy reference of ``move_apply``, the
-invariants of every registered move (n = 1, 9 and 30; n > 20 takes perm_ops._take's
+invariants of every registered move (n = 1, 9 and 30; n > 20 takes permutation.take's
 gathers), ``wrap_blockers`` on hand-built scenes, ``legs.build`` against an
 independent point-segment distance, and the path settings."""
 import tomllib
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from hga_jax.model import legs as legs_mod
-from hga_jax.search import path_ops, perm_ops, rng
+from hga_jax.search import path_ops, permutation, registry, rng
 from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.errors import ConfigError
 from hga_jax.search.settings import GASettings
@@ -267,17 +267,18 @@ def _run(move, legs, perm, labels, seed):
 
 
 def test_registry_holds_the_documented_moves():
-    assert set(path_ops.MOVES) >= {"flip", "drop", "insert", "shift", "repair", "mixed"}
+    assert set(registry.names("path_mutation")) >= {"none", "flip", "drop", "insert", "shift",
+                                                     "repair", "mixed"}
 
 
 @pytest.mark.parametrize("scene", list(SCENES))
-@pytest.mark.parametrize("name", sorted(path_ops.MOVES))
+@pytest.mark.parametrize("name", sorted(registry.names("path_mutation")[1:]))
 def test_every_move_keeps_chromosomes_valid_and_does_what_it_says(scenes, name, scene):
     sc, legs = scenes[scene]
     n = SCENES[scene][0]
     assert sc.n == n
     perm, labels = _random(n, COUNT, seed=n + len(scene))
-    p2, l2 = _run(path_ops.MOVES[name], legs, perm, labels, seed=11)
+    p2, l2 = _run(registry.get("path_mutation", name), legs, perm, labels, seed=11)
     assert p2.shape == (COUNT, n) and l2.shape == (COUNT, n + 2)
     assert p2.dtype == np.int32 and l2.dtype == np.int32
     assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (COUNT, 1)))
@@ -523,7 +524,7 @@ def test_legs_are_built_once_per_scenario_and_only_on_request():
 
 
 def test_n_above_onehot_limit_takes_the_gathers():
-    assert 9 <= perm_ops.ONEHOT_MAX_N < 30  # the n = 30 scenes test the gather branch
+    assert 9 <= permutation.ONEHOT_MAX_N < 30  # the n = 30 scenes test the gather branch
 
 
 # --- settings --------------------------------------------------------------------
@@ -541,7 +542,7 @@ def test_bad_path_settings_are_refused(key, value, message):
         GASettings.from_mapping({key: value}, "x.toml")
 
 
-@pytest.mark.parametrize("path_mutation", ["none"] + sorted(path_ops.MOVES))
+@pytest.mark.parametrize("path_mutation", registry.names("path_mutation"))
 @pytest.mark.parametrize("seeding", [0.0, 0.3, 1.0])
 def test_uses_legs_iff_path_moves_or_seeding(path_mutation, seeding):
     s = GASettings(path_mutation=path_mutation, seeding=seeding, restart_after=4)
@@ -552,13 +553,13 @@ def test_register_move():
     def keep(key, perm, labels, legs):
         return perm, labels
 
-    path_ops.register_move("keep_for_test", keep)
+    registry.register("path_mutation", "keep_for_test", keep)
     try:
         assert GASettings(path_mutation="keep_for_test").path_mutation == "keep_for_test"
         assert GASettings(path_mutation="keep_for_test").uses_legs
         with pytest.raises(ValueError, match="already registered"):
-            path_ops.register_move("keep_for_test", lambda *a: a[1:3])
+            registry.register("path_mutation", "keep_for_test", lambda *a: a[1:3])
     finally:
-        del path_ops.MOVES["keep_for_test"]
+        registry.unregister("path_mutation", "keep_for_test")
     with pytest.raises(ConfigError, match="path_mutation"):
         GASettings(path_mutation="keep_for_test")

@@ -10,7 +10,14 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from hga_jax.search import perm_ops as po
+from hga_jax.search import perm_crossover as pc
+from hga_jax.search import perm_mutation as pmu
+from hga_jax.search import permutation as pm
+from hga_jax.search import registry
+
+# The built-in operators, as the GA finds them.
+CROSSOVERS = {name: registry.get("perm_crossover", name) for name in ("cx", "pmx", "ox1")}
+MUTATIONS = {name: registry.get("perm_mutation", name) for name in ("inversion", "exchange")}
 
 SIZES = [1, 2, 3, 9, 25]
 BATCH = 64
@@ -91,13 +98,13 @@ def ref_ox1(a, b, lo, hi):
 def test_cx_worked_example():
     # Position map i -> position in a of b[i] (a is the identity, so it is b[i]):
     # 0 -> 8 -> 3 -> 7 -> 0, 1 -> 2 -> 6 -> 4 -> 1, 5 -> 5.
-    c1, c2 = po.cx_apply(A9, B9, 0)  # cycle {0, 3, 7, 8} from a, the rest from b
+    c1, c2 = pc.cx_apply(A9, B9, 0)  # cycle {0, 3, 7, 8} from a, the rest from b
     np.testing.assert_array_equal(c1, [0, 2, 6, 3, 1, 5, 4, 7, 8])
     np.testing.assert_array_equal(c2, [8, 1, 2, 7, 4, 5, 6, 0, 3])
-    c1, c2 = po.cx_apply(A9, B9, 4)  # cycle {1, 2, 4, 6}
+    c1, c2 = pc.cx_apply(A9, B9, 4)  # cycle {1, 2, 4, 6}
     np.testing.assert_array_equal(c1, [8, 1, 2, 7, 4, 5, 6, 0, 3])
     np.testing.assert_array_equal(c2, [0, 2, 6, 3, 1, 5, 4, 7, 8])
-    c1, c2 = po.cx_apply(A9, B9, 5)  # fixed point: a[5] == b[5], children = parents
+    c1, c2 = pc.cx_apply(A9, B9, 5)  # fixed point: a[5] == b[5], children = parents
     np.testing.assert_array_equal(c1, B9)
     np.testing.assert_array_equal(c2, A9)
 
@@ -111,7 +118,7 @@ def test_pmx_worked_example():
     # c2 keeps b's 7 1 5 4 and takes a's 0 1 2 . . . . 7 8 with the pairs
     # 7->3, 1->4, 5->5, 4->6: position 1 has 1 -> 4 -> 6, so 6; position 7 has
     # 7 -> 3, so 3. c2 = 0 6 2 7 1 5 4 3 8.
-    c1, c2 = po.pmx_apply(A9, B9, 3, 7)
+    c1, c2 = pc.pmx_apply(A9, B9, 3, 7)
     np.testing.assert_array_equal(c1, [8, 2, 1, 3, 4, 5, 6, 0, 7])
     np.testing.assert_array_equal(c2, [0, 6, 2, 7, 1, 5, 4, 3, 8])
 
@@ -122,21 +129,21 @@ def test_ox1_worked_example():
     # 7 8 0 1 2: c1 = 2 7 1 3 4 5 6 0 8 (Eiben & Smith, 1-based: 3 8 2 4 5 6 7 1 9).
     # c2 keeps b's 7 1 5 4; a from position 7 is 7 8 0 1 2 3 4 5 6, without
     # 7 1 5 4 it is 8 0 2 3 6, written to 7 8 0 1 2: c2 = 2 3 6 7 1 5 4 8 0.
-    c1, c2 = po.ox1_apply(A9, B9, 3, 7)
+    c1, c2 = pc.ox1_apply(A9, B9, 3, 7)
     np.testing.assert_array_equal(c1, [2, 7, 1, 3, 4, 5, 6, 0, 8])
     np.testing.assert_array_equal(c2, [2, 3, 6, 7, 1, 5, 4, 8, 0])
 
 
 def test_inversion_worked_examples():
-    np.testing.assert_array_equal(po.inversion_apply(A9, 2, 6), [0, 1, 5, 4, 3, 2, 6, 7, 8])
-    np.testing.assert_array_equal(po.inversion_apply(A9, 0, 9), A9[::-1])
-    np.testing.assert_array_equal(po.inversion_apply(B9, 7, 9), [8, 2, 6, 7, 1, 5, 4, 3, 0])
-    np.testing.assert_array_equal(po.inversion_apply(B9, 4, 5), B9)
+    np.testing.assert_array_equal(pmu.inversion_apply(A9, 2, 6), [0, 1, 5, 4, 3, 2, 6, 7, 8])
+    np.testing.assert_array_equal(pmu.inversion_apply(A9, 0, 9), A9[::-1])
+    np.testing.assert_array_equal(pmu.inversion_apply(B9, 7, 9), [8, 2, 6, 7, 1, 5, 4, 3, 0])
+    np.testing.assert_array_equal(pmu.inversion_apply(B9, 4, 5), B9)
 
 
 def test_exchange_worked_examples():
-    np.testing.assert_array_equal(po.exchange_apply(A9, 1, 7), [0, 7, 2, 3, 4, 5, 6, 1, 8])
-    np.testing.assert_array_equal(po.exchange_apply(B9, 8, 0), [3, 2, 6, 7, 1, 5, 4, 0, 8])
+    np.testing.assert_array_equal(pmu.exchange_apply(A9, 1, 7), [0, 7, 2, 3, 4, 5, 6, 1, 8])
+    np.testing.assert_array_equal(pmu.exchange_apply(B9, 8, 0), [3, 2, 6, 7, 1, 5, 4, 0, 8])
 
 
 # --- properties over random parents ------------------------------------------------
@@ -144,11 +151,11 @@ def test_exchange_worked_examples():
 def _all_ops(key, a, b):
     """Every operator on one pair, with the draws each one made from ``key``."""
     n = a.shape[-1]
-    out = {name: op(key, a, b) for name, op in po.CROSSOVERS.items()}
-    out.update({name: op(key, a) for name, op in po.MUTATIONS.items()})
-    out["start"] = po.cx_draw(key, n)
-    out["cut"] = po.cut_draw(key, n)  # also pmx_draw, ox1_draw, inversion_draw
-    out["ij"] = po.exchange_draw(key, n)
+    out = {name: op(key, a, b) for name, op in CROSSOVERS.items()}
+    out.update({name: op(key, a) for name, op in MUTATIONS.items()})
+    out["start"] = pc.cx_draw(key, n)
+    out["cut"] = pm.cut_draw(key, n)  # also pmx_draw, ox1_draw, inversion_draw
+    out["ij"] = pmu.exchange_draw(key, n)
     return out
 
 
@@ -173,7 +180,7 @@ def _reference_children(name, a, b, out, k):
 
 
 @pytest.mark.parametrize("n", SIZES)
-@pytest.mark.parametrize("name", sorted(po.CROSSOVERS))
+@pytest.mark.parametrize("name", sorted(CROSSOVERS))
 def test_crossover_children_are_permutations(name, n):
     _, _, _, out = _results(n)
     c1, c2 = out[name]
@@ -182,7 +189,7 @@ def test_crossover_children_are_permutations(name, n):
 
 
 @pytest.mark.parametrize("n", SIZES)
-@pytest.mark.parametrize("name", sorted(po.CROSSOVERS))
+@pytest.mark.parametrize("name", sorted(CROSSOVERS))
 def test_crossover_matches_textbook_reference(name, n):
     _, a, b, out = _results(n)
     c1, c2 = out[name]
@@ -211,7 +218,7 @@ def test_cx_properties(n):
 
 
 @pytest.mark.parametrize("n", SIZES)
-@pytest.mark.parametrize("name", sorted(po.MUTATIONS))
+@pytest.mark.parametrize("name", sorted(MUTATIONS))
 def test_mutation_results_are_permutations(name, n):
     _, _, _, out = _results(n)
     _assert_perms(out[name], n)
@@ -235,7 +242,7 @@ def test_mutations_change_what_they_should(n):
 @pytest.mark.parametrize("n", [1, 25])
 def test_random_permutation(n):
     keys = jax.random.split(jax.random.key(7), 200)
-    perms = np.asarray(jax.jit(jax.vmap(po.random_permutation, (0, None)), static_argnums=1)(keys, n))
+    perms = np.asarray(jax.jit(jax.vmap(pm.random_permutation, (0, None)), static_argnums=1)(keys, n))
     _assert_perms(perms, n)
     if n > 1:
         assert len({tuple(p) for p in perms}) == 200
@@ -243,7 +250,7 @@ def test_random_permutation(n):
         assert np.bincount(perms[:, 0], minlength=n).max() < 25
 
 
-@pytest.mark.parametrize("n", [1, 2, 9, po.RANK_MAX_N, po.RANK_MAX_N + 1, 40])
+@pytest.mark.parametrize("n", [1, 2, 9, pm.RANK_MAX_N, pm.RANK_MAX_N + 1, 40])
 def test_permutation_from_words_is_the_stable_argsort(n):
     """Ranked by comparisons (n <= RANK_MAX_N) or sorted, the permutation is numpy's
     stable argsort of the words, ties (forced here, and words of few values) included."""
@@ -251,7 +258,7 @@ def test_permutation_from_words_is_the_stable_argsort(n):
     words = rng.integers(0, 2**32, size=(300, n), dtype=np.uint32)
     words[:100, n // 2] = words[:100, 0]  # a tie in each of the first 100
     words[100:200] = rng.integers(0, 3, size=(100, n), dtype=np.uint32)  # many ties
-    got = np.asarray(jax.jit(po.permutation_from_words)(words))
+    got = np.asarray(jax.jit(pm.permutation_from_words)(words))
     assert got.dtype == np.int32
     np.testing.assert_array_equal(got, np.argsort(words, axis=-1, kind="stable"))
 
@@ -261,8 +268,8 @@ def test_every_segment_exhaustively():
     pairs = np.array(list(itertools.combinations(range(n + 1), 2)), np.int32)
 
     def one(lo, hi):
-        return (po.pmx_apply(A9, B9, lo, hi), po.ox1_apply(A9, B9, lo, hi),
-                po.inversion_apply(B9, lo, hi))
+        return (pc.pmx_apply(A9, B9, lo, hi), pc.ox1_apply(A9, B9, lo, hi),
+                pmu.inversion_apply(B9, lo, hi))
 
     pmx, ox1, inv = jax.tree.map(np.asarray, jax.jit(jax.vmap(one))(pairs[:, 0], pairs[:, 1]))
     for k, (l, h) in enumerate(pairs.tolist()):
@@ -277,10 +284,10 @@ def test_every_segment_exhaustively():
 def test_lookup_paths_agree(monkeypatch, n, threshold):
     """Forcing the other look-up path (gathers at n = 9, one-hot at n = 25)
     gives the same results."""
-    monkeypatch.setattr(po, "ONEHOT_MAX_N", threshold)
+    monkeypatch.setattr(pm, "ONEHOT_MAX_N", threshold)
     _, _, _, got = _run_all(n, seed=n)
     _, _, _, want = _results(n)
-    for name in list(po.CROSSOVERS) + list(po.MUTATIONS):
+    for name in list(CROSSOVERS) + list(MUTATIONS):
         for g, w in zip(jax.tree.leaves(got[name]), jax.tree.leaves(want[name])):
             np.testing.assert_array_equal(g, w)
 
@@ -296,7 +303,7 @@ def _draws():
     (n = 3), cycle starts (n = 5)."""
 
     def one(key):
-        return po.cut_draw(key, 4), po.exchange_draw(key, 3), po.cx_draw(key, 5)
+        return pm.cut_draw(key, 4), pmu.exchange_draw(key, 3), pc.cx_draw(key, 5)
 
     keys = jax.random.split(jax.random.key(1), DRAWS)
     return jax.tree.map(np.asarray, jax.jit(jax.vmap(one))(keys))
@@ -324,10 +331,10 @@ def test_cx_start_is_uniform():
 
 
 def test_uniform_int_range_and_frequencies():
-    x = np.asarray(po.uniform_int(jax.random.key(5), (60_000,), 3, 9))
+    x = np.asarray(pm.uniform_int(jax.random.key(5), (60_000,), 3, 9))
     assert x.dtype == np.int32 and x.min() == 3 and x.max() == 8
     np.testing.assert_allclose(np.bincount(x - 3) / 60_000, 1 / 6, atol=0.01)
-    y = po.uniform_int(jax.random.key(6), (4,), jnp.array([0, 2, 5, 7]), jnp.array([1, 3, 6, 8]))
+    y = pm.uniform_int(jax.random.key(6), (4,), jnp.array([0, 2, 5, 7]), jnp.array([1, 3, 6, 8]))
     np.testing.assert_array_equal(y, [0, 2, 5, 7])  # one-value ranges
 
 
@@ -336,7 +343,7 @@ def test_tiny_sizes_are_identity_like():
     np.testing.assert_array_equal(out["cut"], [[0] * BATCH, [1] * BATCH])
     np.testing.assert_array_equal(out["ij"], 0)
     np.testing.assert_array_equal(out["start"], 0)
-    for name in list(po.CROSSOVERS) + list(po.MUTATIONS):
+    for name in list(CROSSOVERS) + list(MUTATIONS):
         np.testing.assert_array_equal(np.stack(jax.tree.leaves(out[name])), 0)
     _, a, _, out = _results(2)
     np.testing.assert_array_equal(out["exchange"], a[:, ::-1])  # n = 2: always a swap
@@ -356,6 +363,6 @@ def test_jit_vmap_equals_item_by_item():
 
 def test_raw_uint32_keys_work():
     key = jax.random.PRNGKey(3)
-    c1, c2 = po.cx(key, jnp.asarray(A9), jnp.asarray(B9))
+    c1, c2 = pc.cx(key, jnp.asarray(A9), jnp.asarray(B9))
     _assert_perms(c1, 9)
-    _assert_perms(po.inversion(key, jnp.asarray(B9)), 9)
+    _assert_perms(pmu.inversion(key, jnp.asarray(B9)), 9)

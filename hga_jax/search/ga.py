@@ -25,7 +25,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from hga_jax.search import label_ops, path_ops, perm_ops, registry, rng
+from hga_jax.search import label_ops, path_ops, permutation, registry, rng
 from hga_jax.model.fitness import evaluate
 from hga_jax.model.reductions import tree_sum
 from hga_jax.model.scenario import ScenarioArrays
@@ -197,7 +197,7 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     ``seeding``, the first ``round(seeding * P)`` are then built by
     :func:`hga_jax.search.path_ops.wrap_blockers` from their start and goal labels (keys
     from rows ``2n + 2`` and ``2n + 3``)."""
-    perm = perm_ops.permutation_from_words(words[:n].T)
+    perm = permutation.permutation_from_words(words[:n].T)
     labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
     if settings is None or settings.seeding <= 0 or n == 0:
         return perm, labels

@@ -8,25 +8,23 @@ Conventions:
 - Allowed values: ``+1`` clockwise, ``-1`` counter-clockwise, ``0`` obstacle
   not touched. The two end positions take ``{-1, +1}``; the others
   ``{-1, 0, +1}``.
-- As in :mod:`hga_jax.search.perm_ops`, every operator works on ONE individual or
+- As in :mod:`hga_jax.search.perm_crossover`, every operator works on ONE individual or
   ONE pair, is split into a random ``*_draw`` and a deterministic ``*_apply``
   step, has shapes that depend on ``L`` only, and jits and vmaps.
 - Cut points: ``0 <= lo < hi <= L``, uniform over all such pairs; the segment
   is the half-open position range ``[lo, hi)``.
+
+The settings' names are those of :mod:`hga_jax.search.registry` (``label_crossover``:
+``two_point``; ``label_mutation``: ``redraw``).
 """
 from __future__ import annotations
-
-from typing import Callable
 
 import jax
 import jax.numpy as jnp
 from jax import Array
 
-from .perm_ops import cut_draw, int_from_words
+from .permutation import cut_draw, int_from_words
 from .rng import unit
-
-LabelCrossover = Callable[[Array, Array, Array], tuple[Array, Array]]
-
 
 def _is_end(L: int) -> Array:
     """True at the start and goal positions (0 and ``L - 1``)."""
@@ -114,13 +112,3 @@ def redraw(key: Array, labels: Array, pm: float | Array) -> Array:
 def redraw_from_words(words: Array, labels: Array, pm: float | Array) -> Array:
     """:func:`redraw` of labels ``(..., L)`` from one given uint32 word per gene."""
     return redraw_apply(labels, *redraw_mask(words, pm))
-
-
-CROSSOVERS: dict[str, LabelCrossover] = {"two_point": two_point}
-
-
-def register_crossover(name: str, fn: LabelCrossover) -> None:
-    """``registry.register("label_crossover", name, fn)`` (kept for older code)."""
-    from .registry import register
-
-    register("label_crossover", name, fn)

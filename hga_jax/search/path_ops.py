@@ -18,12 +18,12 @@ circle), the way TSP moves act on a tour:
   GA's ``seeding``);
 - ``mixed``: one of the five above, uniformly.
 
-Conventions (as :mod:`hga_jax.search.perm_ops`): every move works on ONE chromosome,
+Conventions (as :mod:`hga_jax.search.perm_crossover`): every move works on ONE chromosome,
 ``perm`` (n,) and *positional* labels (n + 2,) (docs/model.md), and returns the
 pair; it takes a key and the scenario's :class:`~hga_jax.model.legs.Legs` (only
 ``repair`` reads it); shapes depend on ``n`` only; pure, jit- and vmap-able. A
 move that has nothing to act on (``drop`` with no touched obstacle, say) returns
-the chromosome unchanged. Moving an obstacle from position ``j`` to position
+the chromosome unchanged (so does :func:`keep`, ``path_mutation = "none"``). Moving an obstacle from position ``j`` to position
 ``i`` shifts the positions between them by one, labels travelling with their
 obstacles.
 """
@@ -36,7 +36,7 @@ import jax.numpy as jnp
 from jax import Array
 
 from hga_jax.model.decode import position_circles
-from .perm_ops import _take, int_from_words
+from .permutation import int_from_words, take
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
 
@@ -61,9 +61,9 @@ def move_apply(perm: Array, labels: Array, j: Array, i: Array, label: Array) -> 
     src = jnp.where(p == i, j,
                     jnp.where((j < i) & (p >= j) & (p < i), p + 1,
                               jnp.where((j > i) & (p > i) & (p <= j), p - 1, p)))
-    mid = _take(labels[1:-1], src)
+    mid = take(labels[1:-1], src)
     mid = jnp.where(p == i, label, mid)
-    return _take(perm, src), jnp.concatenate([labels[:1], mid, labels[-1:]])
+    return take(perm, src), jnp.concatenate([labels[:1], mid, labels[-1:]])
 
 
 def keep(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
@@ -105,7 +105,7 @@ def shift(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Arr
     w = _words(key, 2)
     j, any_ = _choose(labels[1:-1] != 0, w[0])
     i = int_from_words(w[1], 0, n)
-    p2, l2 = move_apply(perm, labels, j, i, _take(labels[1:-1], j[None])[0])
+    p2, l2 = move_apply(perm, labels, j, i, take(labels[1:-1], j[None])[0])
     return jnp.where(any_, p2, perm), jnp.where(any_, l2, labels)
 
 
@@ -125,7 +125,7 @@ def blocked_legs(perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]
     pos = jnp.arange(s, dtype=jnp.int32)
     later = touched[None, :] & (pos[None, :] > pos[:, None])  # (s, s)
     nxt = jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
-    nxt_id = _take(ids, nxt)
+    nxt_id = take(ids, nxt)
     blocked = jnp.asarray(legs.blocked)[ids, nxt_id] & touched & (pos < s - 1)
     return ids, nxt_id, blocked
 
@@ -171,28 +171,15 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, 
     return jax.lax.fori_loop(0, n, body, (perm, labels))
 
 
-MOVES: dict[str, Move] = {"flip": flip, "drop": drop, "insert": insert, "shift": shift,
-                          "repair": repair}
-
-
 def mixed(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
     """One of ``flip``, ``drop``, ``insert``, ``shift`` and ``repair``, uniformly.
 
     All five are computed and one is kept (under ``vmap`` a ``switch`` computes them
     all anyway, and measured 3x slower than this select)."""
-    names = ("flip", "drop", "insert", "shift", "repair")
-    which = int_from_words(_words(key, 1)[0], 0, len(names))
+    moves = (flip, drop, insert, shift, repair)
+    which = int_from_words(_words(key, 1)[0], 0, len(moves))
     sub = jax.random.fold_in(key, 7)
-    outs = [MOVES[nm](sub, perm, labels, legs) for nm in names]
+    outs = [move(sub, perm, labels, legs) for move in moves]
     return (jax.lax.select_n(which, *[o[0] for o in outs]),
             jax.lax.select_n(which, *[o[1] for o in outs]))
 
-
-MOVES["mixed"] = mixed
-
-
-def register_move(name: str, fn: Move) -> None:
-    """``registry.register("path_mutation", name, fn)`` (kept for older code)."""
-    from .registry import register
-
-    register("path_mutation", name, fn)

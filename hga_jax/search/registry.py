@@ -158,7 +158,7 @@ def isolated() -> Iterator[None]:
 
 
 def _load_builtins() -> None:
-    from hga_jax.search import label_ops, path_ops, perm_ops, selection
+    from hga_jax.search import label_ops, path_ops, perm_crossover, perm_mutation, selection
 
     def add(kind, name, fn, **kw):
         _TABLE[kind][name] = Operator(kind, name, fn, builtin=True, doc=fn.__doc__ or "", **kw)
@@ -169,10 +169,10 @@ def _load_builtins() -> None:
         from_words=selection.roulette_from_words, rows=lambda n, s: 1)
     add("selection", "tournament", selection.tournament_pick, settings=("tournament_size",),
         from_words=selection.tournament_from_words, rows=lambda n, s: s.tournament_size)
-    for name, fn in (("cx", perm_ops.cx), ("pmx", perm_ops.pmx), ("ox1", perm_ops.ox1)):
-        add("perm_crossover", name, fn)
-    for name, fn in (("inversion", perm_ops.inversion), ("exchange", perm_ops.exchange)):
-        add("perm_mutation", name, fn)
+    for name in ("cx", "pmx", "ox1"):
+        add("perm_crossover", name, getattr(perm_crossover, name))
+    for name in ("inversion", "exchange"):
+        add("perm_mutation", name, getattr(perm_mutation, name))
     add("label_crossover", "two_point", label_ops.two_point)
     add("label_mutation", "redraw", label_ops.redraw,
         from_words=label_ops.redraw_from_words, rows=lambda n, s: n + 2)

@@ -9,6 +9,9 @@ Conventions:
 - All selections share the signature ``(key, fitness, count, size)``; ``count``
   and ``size`` are static (Python ints), so the functions jit and vmap over
   runs. ``size`` is the tournament size; roulette ignores it.
+- The registry's form (:mod:`hga_jax.search.registry`, ``selection``) is
+  ``fn(key, fitness) -> (P,)`` indices: :func:`roulette_pick`,
+  :func:`tournament_pick`; the GA reads words through ``*_from_words``.
 """
 from __future__ import annotations
 
@@ -20,7 +23,7 @@ from jax import Array
 
 from hga_jax.model.reductions import prefix_sum
 
-from .perm_ops import int_from_words
+from .permutation import int_from_words
 from .rng import unit
 
 Selection = Callable[[Array, Array, int, int], Array]
@@ -74,7 +77,3 @@ def tournament_pick(key: Array, fitness: Array, tournament_size: int = 2) -> Arr
     """:func:`tournament` in the registry's form: one parent per individual, ``(P,)``."""
     return tournament(key, fitness, fitness.shape[-1], tournament_size)
 
-
-SELECTIONS: dict[str, Selection] = {"roulette": roulette, "tournament": tournament}
-"""The built-in selections in this module's ``(key, fitness, count, size)`` form (the
-settings' names are :func:`hga_jax.search.registry.names`)."""
