@@ -130,7 +130,11 @@ def test_documents_link_inside_the_repository():
     for path, text in texts:
         assert "MODEL.md" not in text and "performance notes" not in text, path
         assert "/tmp/" not in text and "/work/" not in text, path
-    for page in PAGES:
+    for page in PAGES:  # every file of the repository a page names is there
+        for named in re.findall(r"\b(?:hga_jax|configs|experiments|tests)/[\w./*-]*\w",
+                                page.read_text()):
+            if not re.search(r"[A-Z]{3}", named):
+                assert list(ROOT.glob(named)), f"{_name(page)}: {named}"
         for target in re.findall(r"\]\(([^)\s]+)\)", page.read_text()):
             if re.match(r"https?://", target):
                 continue
