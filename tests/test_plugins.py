@@ -2,6 +2,7 @@
 a ``--ga`` file's ``plugins``, a study's ``plugins``, and one-line errors for bad plugins."""
 import csv
 import json
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -23,13 +24,15 @@ SMALL = ["--preset", "paper", "--runs", "8", "--population", "8", "--generations
 
 @pytest.fixture
 def plugins():
-    """Registrations and plugin modules made in a test are gone after it."""
-    before = set(sys.modules)
+    """Plugins are imported afresh in the test, and what they register is gone after it."""
+    def forget():
+        for name in [m for m in sys.modules if m.startswith("hga_jax_plugin_")]:
+            del sys.modules[name]
+
+    forget()
     with registry.isolated():
         yield
-    for name in set(sys.modules) - before:
-        if name.startswith("hga_jax_plugin_"):
-            del sys.modules[name]
+    forget()
 
 
 def _run(tmp_path, name, *flags) -> dict:
@@ -45,7 +48,7 @@ def _runs(doc) -> list[tuple]:
 def test_example_operators_follow_their_definitions(plugins):
     from hga_jax.host import validation
 
-    validation.load_plugin(str(EXAMPLE), "test", "plugin")
+    validation.load_plugin(str(EXAMPLE))
     cross = registry.get("perm_crossover", "one_point_order")
     a, b = jnp.arange(9, dtype=jnp.int32), jnp.array([8, 2, 6, 0, 4, 1, 7, 3, 5], jnp.int32)
     cuts = set()
@@ -192,3 +195,9 @@ def test_a_study_plugin_that_fails_names_the_study_and_the_file(tmp_path, capsys
                    f"{tmp_path / 'ops' / 'example_ops.py'}: ModuleNotFoundError: No module "
                    "named 'no_such_module_of_hga'\n")
     assert not (tmp_path / "out").exists()
+
+
+def test_the_documented_plugin_is_the_shipped_file():
+    page = (ROOT / "docs" / "operators.md").read_text()
+    (listing,) = re.findall(r"^```py\n(.*?)^```$", page, flags=re.S | re.M)
+    assert listing == EXAMPLE.read_text()

@@ -130,7 +130,7 @@ def is_file(plugin: str) -> bool:
     return plugin.endswith(".py") or os.sep in plugin or "/" in plugin
 
 
-def load_plugin(plugin: str, source: str, key: str) -> None:
+def load_plugin(plugin: str, source: str = "load_plugin", key: str = "plugin") -> None:
     """Import one plugin: a ``.py`` file (by path) or a module name (on ``sys.path``).
 
     A plugin registers operators at import with :func:`hga_jax.search.registry.register`.
