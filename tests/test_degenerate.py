@@ -17,6 +17,7 @@ import pytest
 
 from hga_jax.model import exact
 from hga_jax import scenario_from_dict, solve
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from hga_jax.model.decode import decode_batch
 from hga_jax.errors import ModelMismatchError
@@ -231,9 +232,9 @@ def test_paper_criterion_counts_an_end_on_the_circle_as_outside():
     # on the circle, so it crosses it, whichever way the ends round.
     for end in (0.0, 1e-12, -1e-12):
         seg = (f(2.0), f(0.0), f(end), f(0.0))
-        assert g.segment_hits_paper(*seg, f(1.0), f(0.0), f(1.0), 1e-7)
+        assert col.segment_hits_paper(*seg, f(1.0), f(0.0), f(1.0), 1e-7)
     # An end inside by more than the tolerance is missed, as in the paper.
-    assert not g.segment_hits_paper(f(2.0), f(0.0), f(0.5), f(0.0), f(1.0), f(0.0), f(1.0), 1e-7)
+    assert not col.segment_hits_paper(f(2.0), f(0.0), f(0.5), f(0.0), f(1.0), f(0.0), f(1.0), 1e-7)
 
 
 # --- metamorphic properties ----------------------------------------------------------------

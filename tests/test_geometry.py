@@ -5,6 +5,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
 S3 = math.sqrt(3.0)
@@ -89,22 +90,23 @@ def test_paper_criterion_misses_a_segment_starting_inside():
     f = np.float64
     seg = (f(0.0), f(0.0), f(2.0), f(0.0))
     inside_start = (f(0.1), f(0.05), f(0.2))
-    assert g.segment_hits(*seg, *inside_start, 1e-9)
-    assert not g.segment_hits_paper(*seg, *inside_start, 1e-9)
+    assert col.segment_hits(*seg, *inside_start, 1e-9)
+    assert not col.segment_hits_paper(*seg, *inside_start, 1e-9)
     crossing = (f(1.0), f(0.1), f(0.2))  # crosses twice: both criteria
-    assert g.segment_hits(*seg, *crossing, 1e-9) and g.segment_hits_paper(*seg, *crossing, 1e-9)
+    assert col.segment_hits(*seg, *crossing, 1e-9) and col.segment_hits_paper(*seg, *crossing, 1e-9)
     tangent = (f(1.0), f(0.2), f(0.2))  # touches: neither
-    assert not g.segment_hits(*seg, *tangent, 1e-9)
-    assert not g.segment_hits_paper(*seg, *tangent, 1e-9)
+    assert not col.segment_hits(*seg, *tangent, 1e-9)
+    assert not col.segment_hits_paper(*seg, *tangent, 1e-9)
 
 
 def test_arc_clearance():
     f = np.float64
     # Quarter arc CCW on the unit circle from (1, 0) to (0, 1).
     arc = (f(0), f(0), f(1), f(1), f(0), f(0), f(1), f(math.pi / 2), f(-1))
-    assert g.arc_hits(*arc, f(0.7), f(0.7), f(0.3), 1e-9)  # on the arc's side
-    assert not g.arc_hits(*arc, f(-0.7), f(-0.7), f(0.3), 1e-9)  # opposite side
-    assert g.arc_hits(*arc, f(1.2), f(-0.1), f(0.3), 1e-9)  # near the start point only
+    assert col.arc_hits(*arc, f(0.7), f(0.7), f(0.3), 1e-9)  # on the arc's side
+    assert not col.arc_hits(*arc, f(-0.7), f(-0.7), f(0.3), 1e-9)  # opposite side
+    assert col.arc_hits(*arc, f(1.2), f(-0.1), f(0.3), 1e-9)  # near the start point only
     box = np.array([-2.0, 2.0, -2.0, 0.95])
-    assert g.arc_leaves_box(*arc, box, 1e-9)  # the arc reaches y = 1 at (0, 1)
-    assert not g.arc_leaves_box(*arc, np.array([-2.0, 2.0, -2.0, 1.0]), 1e-9)
+    circle, piece = arc[:3] + arc[8:], arc[3:8]
+    assert col.arc_leaves_field(circle, piece, box, 1e-9)  # the arc reaches y = 1 at (0, 1)
+    assert not col.arc_leaves_field(circle, piece, np.array([-2.0, 2.0, -2.0, 1.0]), 1e-9)

@@ -35,20 +35,22 @@ def arc_points(center: Sequence[float], radius: float, start_angle: float, sweep
     return np.asarray(center, float) + radius * np.stack([np.cos(t), np.sin(t)], axis=1)
 
 
-def _pose(ax: Axes, pose: Sequence[float], rho: float, colour: str, name: str,
-          span: float) -> np.ndarray:
-    """Draw a pose arrow and its two turning circles; return the circles' bbox corners."""
+def _pose(ax: Axes, pose: Sequence[float], circles: Iterable[Sequence[float]], colour: str,
+          name: str, span: float) -> np.ndarray:
+    """Draw a pose arrow and its turning circles ``(x, y, r)`` (from
+    :meth:`Scenario.circles`); return the circles' bbox corners."""
     x, y, th = (float(v) for v in pose)
+    circles = [tuple(float(v) for v in c) for c in circles]
     ax.plot([x], [y], "o", color=colour, ms=5, zorder=6, gid=name, label=name)
-    size = max(0.07 * span, 0.6 * rho)
+    size = max(0.07 * span, 0.6 * max(c[2] for c in circles))
     tip = (x + size * np.cos(th), y + size * np.sin(th))
     ax.add_patch(FancyArrowPatch((x, y), tip, arrowstyle="-|>", mutation_scale=14, lw=1.8,
                                  color=colour, shrinkA=0, shrinkB=0, zorder=6, gid=name + "_arrow"))
     ends = []
-    for s in (-1.0, 1.0):  # left/CCW, right/CW centres (docs/model.md)
-        c = (x - s * rho * np.sin(th), y + s * rho * np.cos(th))
-        ax.add_patch(Circle(c, rho, fill=False, ls=":", lw=0.8, ec=colour, gid="turning_circle"))
-        ends += [(c[0] - rho, c[1] - rho), (c[0] + rho, c[1] + rho)]
+    for cx, cy, rho in circles:
+        ax.add_patch(Circle((cx, cy), rho, fill=False, ls=":", lw=0.8, ec=colour,
+                            gid="turning_circle"))
+        ends += [(cx - rho, cy - rho), (cx + rho, cy + rho)]
     return np.asarray(ends)
 
 
@@ -114,16 +116,16 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
         ax = fig.add_subplot()
     else:
         fig = ax.figure
-    r, rho, f = scenario.robot_radius, scenario.min_turn_radius, scenario.field
+    f = scenario.field
     centres = np.asarray(scenario.centres, float).reshape(-1, 2)
     radii, model = np.asarray(scenario.radii, float), np.asarray(scenario.model_radii, float)
     pts = [np.asarray([scenario.start[:2], scenario.goal[:2]], float)]
     if f is not None:
         ax.add_patch(Rectangle((f.xmin, f.ymin), f.xmax - f.xmin, f.ymax - f.ymin,
                                fill=False, ec="black", lw=1.2, gid="field"))
-        if f.keep_inside:
-            ax.add_patch(Rectangle((f.xmin + r, f.ymin + r), f.xmax - f.xmin - 2 * r,
-                                   f.ymax - f.ymin - 2 * r, fill=False, ec="0.4", lw=0.8,
+        if f.keep_inside:  # the box every path point must stay within
+            x0, x1, y0, y1 = scenario.bounds
+            ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, ec="0.4", lw=0.8,
                                    ls="-.", gid="field_inner"))
         pts.append(np.asarray([[f.xmin, f.ymin], [f.xmax, f.ymax]]))
     touch = _touches(touched, scenario.n)
@@ -140,8 +142,9 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
         pts.append(np.asarray([c - Ri, c + Ri]))
     span0 = np.ptp(np.concatenate(pts), axis=0).max() if len(pts) > 1 else 1.0
     span = float(span0) if span0 > 0 else 1.0
-    pts.append(_pose(ax, scenario.start, rho, C_START, "start", span))
-    pts.append(_pose(ax, scenario.goal, rho, C_GOAL, "goal", span))
+    turning = list(zip(*scenario.circles(np.float64)[:3]))  # start CCW, CW, goal CCW, CW
+    pts.append(_pose(ax, scenario.start, turning[0:2], C_START, "start", span))
+    pts.append(_pose(ax, scenario.goal, turning[2:4], C_GOAL, "goal", span))
     kinds_seen: set[str] = set()
     drawn = []
     for seg in segments:

@@ -14,13 +14,10 @@ the ids of the path's oriented circles are compacted to the front of a slot axis
 once per scenario) and does the arc work, with the batch axis innermost (the
 layout XLA vectorises well), masking legs past the last touched circle.
 
-Violations (``collision = "full"``): each (segment, obstacle) and (arc, obstacle)
-pair closer than the model radius by more than the tolerance (an arc never
-against its own circle), each missing tangent, and, when the field is kept,
-each piece leaving it. ``collision = "paper"``: (segment, obstacle) pairs by the
-paper's Appendix B criterion instead of segment and arc clearance; missing
-tangents and the field count in both modes, since they are properties of the
-path, not of the collision test.
+Violations: the rules of :mod:`hga_jax.model.collision` (segments against
+obstacles by the criterion of ``collision``, arcs against every obstacle but their
+own circle in ``"full"`` mode, pieces leaving the kept field, missing tangents);
+the segments' are in the tangent table, the arcs' are counted here.
 """
 from __future__ import annotations
 
@@ -29,6 +26,7 @@ from typing import Any, NamedTuple
 import jax
 import jax.numpy as jnp
 
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from .scenario import ScenarioArrays
 
@@ -112,21 +110,18 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
 
     Pure and jit/vmap-able; ``collision`` is static. The float dtype is the
     scenario's (float32 for the search, float64 for exact re-evaluation). Each leg
-    looks its tangent up in ``sa.tangents``; each arc is tested against the
-    obstacles that can reach its circle (all of them, when that list is not short).
+    looks its tangent up in ``sa.tangents``; each arc is tested against every
+    obstacle (:func:`hga_jax.model.collision.arc_violations`).
     """
     sa = jax.tree.map(jnp.asarray, sa)
     tb = sa.tangents
     dt = sa.centres.dtype
     tol = g.tolerances(dt)
-    n, c = sa.centres.shape[0], tb.circles.shape[0]
+    c = tb.circles.shape[0]
     count, ids = _path_circles(perm, labels)
     cx, cy, r, sign = (tb.circles[:, i][ids] for i in range(4))
     oid = tb.obstacle[ids]
-    qx = sa.centres[:, 0][:, None]  # (n, 1) obstacle centres against (1, B) pieces
-    qy = sa.centres[:, 1][:, None]
-    qr = sa.model_radii[:, None]
-    own = jnp.arange(n)[:, None]
+    obstacles = col.obstacles(sa.centres, sa.model_radii, ndim=1)  # (n, 1) against (B,) pieces
     bounds = sa.bounds
     full = collision == "full"
     # One row of 8 values per ordered pair: one gather per leg (gathers are slow on
@@ -137,12 +132,8 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
 
     def arc_violations(circle, a, b, swp):
         ccx, ccy, cr, cs, cid, _ = circle
-        v = jnp.zeros(swp.shape, jnp.int32)
-        if full and n:
-            hit = g.arc_hits(ccx, ccy, cr, a[0], a[1], b[0], b[1], swp, cs, qx, qy, qr, tol.length)
-            v = v + jnp.sum(hit & (own != cid), axis=0, dtype=jnp.int32)
-        out = g.arc_leaves_box(ccx, ccy, cr, a[0], a[1], b[0], b[1], swp, cs, bounds, tol.length)
-        return v + out.astype(jnp.int32)
+        return col.arc_violations((ccx, ccy, cr, cs), cid, (a[0], a[1], b[0], b[1], swp),
+                                  obstacles, bounds, tol.length, collision)
 
     def leg(carry, xs):
         ax, ay, length, viol = carry

@@ -15,7 +15,7 @@ every feasible directed tangent. Edges (docs/model.md, "The optimum of the model
   since the decoder counts a sweep within it of 2*pi as 0;
 - coincident start and goal circles: the arc from the start point to the goal point.
 
-Each piece is judged by the decoder's functions (:mod:`hga_jax.model.geometry`, float64
+Each piece is judged by the decoder's rules (:mod:`hga_jax.model.collision`, float64
 tolerances): segments against every obstacle, arcs against every obstacle but their
 own circle (``"full"`` mode only), the field box in both modes. So a walk touching
 each obstacle at most once is feasible iff the chromosome listing its circles decodes
@@ -37,6 +37,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from hga_jax.errors import ModelMismatchError
 from .path import Path, chromosome, evaluate_path
@@ -108,16 +109,12 @@ class _Graph(NamedTuple):
     sweep: np.ndarray
 
 
-def _arc_ok(circ, c, ax, ay, bx, by, swp, sa, full: bool) -> np.ndarray:
-    """Feasibility of arcs on circles ``c`` from A to B (decoder's arc criteria)."""
-    x, y, r, s, obs = (a[c] for a in circ)
-    qx, qy, qr = sa.centres[:, 0], sa.centres[:, 1], sa.model_radii
-    ok = ~g.arc_leaves_box(x, y, r, ax, ay, bx, by, swp, s, sa.bounds, TOL.length)
-    if full and qx.size:
-        hit = g.arc_hits(x[:, None], y[:, None], r[:, None], ax[:, None], ay[:, None], bx[:, None],
-                         by[:, None], swp[:, None], s[:, None], qx, qy, qr, TOL.length)
-        ok &= ~np.any(hit & (obs[:, None] != np.arange(qx.size)[None]), axis=1)
-    return ok
+def _arc_ok(circ, c, ax, ay, bx, by, swp, sa, collision: str) -> np.ndarray:
+    """Feasibility of arcs on circles ``c`` from A to B (the decoder's arc rule)."""
+    x, y, r, s, own = (a[c] for a in circ)
+    obstacles = col.obstacles(sa.centres, sa.model_radii, ndim=1)
+    return col.arc_violations((x, y, r, s), own, (ax, ay, bx, by, swp), obstacles, sa.bounds,
+                              TOL.length, collision) == 0
 
 
 def _tangents(sa, full: bool):
@@ -179,7 +176,7 @@ def _build(sc: Scenario, collision: str) -> _Graph:
     a, b = np.concatenate([a, S[direct]]), np.concatenate([b, T[direct]])
     cx, cy = x[ac], y[ac]
     swp = g.sweep(nx[a] - cx, ny[a] - cy, nx[b] - cx, ny[b] - cy, sg[ac], TOL.angle)
-    aok = _arc_ok(circ, ac, nx[a], ny[a], nx[b], ny[b], swp, sa, full)
+    aok = _arc_ok(circ, ac, nx[a], ny[a], nx[b], ny[b], swp, sa, collision)
     a, b, ac, swp = a[aok], b[aok], ac[aok], swp[aok]
     tie = (swp < TOL.angle) & (a > 3) & (b > 3)  # zero reverse edge b -> a
     nt, tan = int(tie.sum()), np.arange(e) + 4

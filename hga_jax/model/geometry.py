@@ -4,6 +4,8 @@ Every function takes x and y components as separate arrays (the batch layout
 that vectorises well) and broadcasts them; it runs on numpy arrays (host code,
 float64: the exact solver) and on jax arrays or tracers (device code: decoding,
 fitness) with the same formulas, so the GA and the exact solver share one model.
+The clearance and field tests built on :func:`arc_frame` and :func:`in_span` are
+the feasibility rules of :mod:`hga_jax.model.collision`.
 
 Conventions (docs/model.md): lengths in metres, angles in radians. A circle's
 orientation ``sign`` is ``+1`` clockwise (CW) and ``-1`` counter-clockwise (CCW);
@@ -56,20 +58,6 @@ def turning_circle(x, y, heading, rho, sign):
     """
     xp = xp_of(x, y, heading, rho, sign)
     return x + sign * rho * xp.sin(heading), y - sign * rho * xp.cos(heading)
-
-
-def heading_on_circle(px, py, cx, cy, sign):
-    """Unit direction of travel at point P of the circle centred at C with orientation ``sign``.
-
-    From ``P = C - sigma*r*left(u)``: ``u = sigma * (P - C)`` rotated by +90 degrees
-    (CCW travel turns left). Returns ``(ux, uy)``.
-    """
-    xp = xp_of(px, py, cx, cy, sign)
-    wx, wy = px - cx, py - cy
-    norm = xp.sqrt(wx * wx + wy * wy)
-    norm = xp.where(norm > 0, norm, 1.0)
-    sigma = -sign
-    return -sigma * wy / norm, sigma * wx / norm
 
 
 class Tangent(NamedTuple):
@@ -173,95 +161,8 @@ def in_span(frame, vx, vy):
     ``frame`` is :func:`arc_frame` of the arc: V is within it iff its angle to the
     middle direction M is at most half the sweep, ``V.M >= |V| |M| cos(swp/2)``.
     Directions within rounding of the arc's ends may go either way; the callers
-    also test the end points, so nothing depends on that.
+    (:mod:`hga_jax.model.collision`) also test the end points, so nothing depends on that.
     """
     xp = xp_of(vx, vy, *frame)
     mx, my, m_cos = frame
     return vx * mx + vy * my >= m_cos * xp.sqrt(vx * vx + vy * vy)
-
-
-def segment_hits(p1x, p1y, p2x, p2y, qx, qy, radius, tol):
-    """Full criterion: the segment comes closer than ``radius - tol`` to Q."""
-    xp = xp_of(p1x, p1y, p2x, p2y, qx, qy, radius)
-    vx, vy = p2x - p1x, p2y - p1y
-    wx, wy = qx - p1x, qy - p1y
-    vv = vx * vx + vy * vy
-    t = xp.clip((wx * vx + wy * vy) / xp.where(vv > 0, vv, 1.0), 0.0, 1.0)
-    ex, ey = wx - t * vx, wy - t * vy
-    reach = xp.maximum(radius - tol, 0.0)
-    return ex * ex + ey * ey < reach * reach
-
-
-def segment_hits_paper(p1x, p1y, p2x, p2y, qx, qy, radius, tol):
-    """The paper's Appendix B criterion: the segment S->T meets the circle in two
-    distinct points. With ``f(t) = t^2 + 2bt + c`` (``f(t) < 0`` inside the circle):
-    ``-1 < b < 0``, ``f(-b) < 0``, ``f(0) >= 0`` and ``f(1) >= 0``.
-
-    The same tolerance convention as the full test (:func:`segment_hits`): a point
-    is inside only when closer than ``radius - tol``. So ``f(-b) < 0`` asks the
-    line's closest distance to be below ``radius - tol`` (tangent touching is not a
-    crossing), and ``f(0) >= 0``, ``f(1) >= 0`` ask the ends not to be inside by
-    more than ``tol`` (an end on the circle, such as a touch point on a
-    neighbouring circle, counts as outside, whatever the rounding). A segment that
-    starts or ends deeper inside is missed, as in the paper.
-    """
-    xp = xp_of(p1x, p1y, p2x, p2y, qx, qy, radius)
-    x1, y1 = p2x - p1x, p2y - p1y
-    x2, y2 = p1x - qx, p1y - qy
-    a = x1 * x1 + y1 * y1
-    a_safe = xp.where(a > 0, a, 1.0)
-    b = (x1 * x2 + y1 * y2) / a_safe
-    reach = xp.maximum(radius - tol, 0.0)
-    reach2 = reach * reach
-    start_sq = x2 * x2 + y2 * y2  # squared distances of S, T and the line to Q
-    end_sq = (p2x - qx) ** 2 + (p2y - qy) ** 2
-    closest_sq = start_sq - b * b * a
-    return (a > 0) & (b > -1) & (b < 0) & (closest_sq < reach2) & (start_sq >= reach2) & (
-        end_sq >= reach2)
-
-
-def arc_hits(cx, cy, r, ax, ay, bx, by, swp, sign, qx, qy, radius, tol):
-    """The arc (centre C, radius r, from point A to point B, sweep ``swp``, ``sign``)
-    comes closer than ``radius - tol`` to Q.
-
-    Its closest point to Q is the circle's point towards Q when that direction lies
-    within the arc (distance ``| |Q - C| - r |``), else the nearer end; both ends are
-    always tested, so a direction at an end that :func:`in_span` rounds either way
-    gives the same answer. Compared in squares.
-    """
-    xp = xp_of(cx, cy, r, ax, ay, bx, by, swp, sign, qx, qy, radius)
-    frame = arc_frame(ax - cx, ay - cy, bx - cx, by - cy, swp, sign)
-    vx, vy = qx - cx, qy - cy
-    reach = xp.maximum(radius - tol, 0.0)
-    reach2 = reach * reach
-    vv = vx * vx + vy * vy
-    lo, hi = r - reach, r + reach
-    hit_mid = (vv < hi * hi) & ((lo < 0) | (vv > lo * lo)) & in_span(frame, vx, vy)
-    hit_a = (qx - ax) ** 2 + (qy - ay) ** 2 < reach2
-    hit_b = (qx - bx) ** 2 + (qy - by) ** 2 < reach2
-    return hit_mid | hit_a | hit_b
-
-
-def arc_leaves_box(cx, cy, r, ax, ay, bx, by, swp, sign, bounds, tol):
-    """The arc leaves the box ``bounds = (xmin, xmax, ymin, ymax)`` by more than ``tol``."""
-    xp = xp_of(cx, cy, r, ax, ay, bx, by, swp, sign)
-    frame = arc_frame(ax - cx, ay - cy, bx - cx, by - cy, swp, sign)
-
-    def reaches(vx, vy):
-        return in_span(frame, vx, vy)
-
-    xmax = xp.where(reaches(1.0, 0.0), cx + r, xp.maximum(ax, bx))
-    xmin = xp.where(reaches(-1.0, 0.0), cx - r, xp.minimum(ax, bx))
-    ymax = xp.where(reaches(0.0, 1.0), cy + r, xp.maximum(ay, by))
-    ymin = xp.where(reaches(0.0, -1.0), cy - r, xp.minimum(ay, by))
-    return (xmin < bounds[0] - tol) | (xmax > bounds[1] + tol) | (
-        ymin < bounds[2] - tol) | (ymax > bounds[3] + tol)
-
-
-def segment_leaves_box(p1x, p1y, p2x, p2y, bounds, tol):
-    """The segment leaves the (convex) box: one of its ends lies outside by more than ``tol``."""
-    def out(x, y):
-        return (x < bounds[0] - tol) | (x > bounds[1] + tol) | (y < bounds[2] - tol) | (
-            y > bounds[3] + tol)
-
-    return out(p1x, p1y) | out(p2x, p2y)

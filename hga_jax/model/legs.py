@@ -7,7 +7,8 @@ obstacles its segment passes through. They never search over whole paths.
 
 - ``blockers[a, c, j]``: the segment of the tangent ``a -> c`` comes closer to
   obstacle ``j``'s centre than its model radius (the full criterion of
-  docs/model.md; a missing tangent's stand-in counts too).
+  :func:`hga_jax.model.collision.segment_obstacles`; a missing tangent's stand-in
+  counts too).
 - ``blocked[a, c]``: some obstacle blocks the segment.
 
 Host code (numpy), built once per scenario from the float64 tangent table.
@@ -18,6 +19,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from .tangents import TangentTable
 
@@ -35,7 +37,8 @@ def build(tb: TangentTable, centres, model_radii) -> Legs:
     tol = g.tolerances(f8)
     centres = np.asarray(centres, f8).reshape(-1, 2)
     radii = np.asarray(model_radii, f8).reshape(-1)
-    p1x, p1y, p2x, p2y = (np.asarray(v, f8)[..., None] for v in (tb.p1x, tb.p1y, tb.p2x, tb.p2y))
-    qx, qy = centres[:, 0], centres[:, 1]
-    hits = np.asarray(g.segment_hits(p1x, p1y, p2x, p2y, qx, qy, radii, tol.length), bool)
+    ends = tuple(np.asarray(v, f8) for v in (tb.p1x, tb.p1y, tb.p2x, tb.p2y))  # (C, C)
+    obstacles = col.obstacles(centres, radii, ndim=2)
+    hits = col.segment_obstacles(ends, obstacles, tol.length, "full")  # (n, C, C)
+    hits = np.ascontiguousarray(np.moveaxis(np.asarray(hits, bool), 0, -1))
     return Legs(blockers=hits, blocked=np.any(hits, axis=-1))

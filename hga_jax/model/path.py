@@ -18,6 +18,7 @@ from typing import Any, Sequence
 import jax
 import numpy as np
 
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from .decode import decode_batch
 from hga_jax.errors import ConfigError
@@ -151,15 +152,15 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
 class _Locator:
     """Which obstacle (or the field) each piece of a decoded path violates.
 
-    The decoder's own tests (:mod:`hga_jax.model.geometry`) in float64, piece by piece,
+    The decoder's rules (:mod:`hga_jax.model.collision`) in float64, piece by piece,
     so the list has one entry per violation the decoder counted.
     """
 
     def __init__(self, scenario: Scenario, collision: str):
         sa = scenario.arrays(np.float64)
-        self.qx, self.qy = np.asarray(sa.centres[:, 0]), np.asarray(sa.centres[:, 1])
-        self.qr, self.bounds = np.asarray(sa.model_radii), np.asarray(sa.bounds)
-        self.full, self.tol = collision == "full", g.tolerances(np.float64).length
+        self.obstacles = col.obstacles(np.asarray(sa.centres), np.asarray(sa.model_radii))
+        self.bounds, self.collision = np.asarray(sa.bounds), collision
+        self.tol = g.tolerances(np.float64).length
 
     def _obstacles(self, hit: np.ndarray, segment: int | None) -> list[dict[str, Any]]:
         return [{"kind": "obstacle", "segment": segment, "obstacle": int(k) + 1}
@@ -170,22 +171,16 @@ class _Locator:
         return [{"kind": "field", "segment": segment, "obstacle": None}] if bool(out) else []
 
     def arc(self, circle, own: int, arc, segment: int | None) -> list[dict[str, Any]]:
-        (cx, cy, r, sign), (ax, ay, bx, by, swp) = circle, arc
-        found = []
-        if self.full and self.qx.size:
-            hit = g.arc_hits(cx, cy, r, ax, ay, bx, by, swp, sign, self.qx, self.qy, self.qr,
-                             self.tol)
-            found = self._obstacles(np.asarray(hit) & (np.arange(self.qx.size) != own), segment)
-        out = g.arc_leaves_box(cx, cy, r, ax, ay, bx, by, swp, sign, self.bounds, self.tol)
-        return found + self._field(out, segment)
+        hit = col.arc_obstacles(circle, own, arc, self.obstacles, self.tol, self.collision)
+        out = col.arc_leaves_field(circle, arc, self.bounds, self.tol)
+        return self._obstacles(hit, segment) + self._field(out, segment)
 
     def line(self, ends, exists: bool, segment: int | None) -> list[dict[str, Any]]:
-        hits = g.segment_hits if self.full else g.segment_hits_paper
-        found = self._obstacles(np.asarray(hits(*ends, self.qx, self.qy, self.qr, self.tol)),
-                                segment) if self.qx.size else []
-        if not exists:
+        hit = col.segment_obstacles(ends, self.obstacles, self.tol, self.collision)
+        found = self._obstacles(hit, segment)
+        if col.missing_tangent(exists):
             found.append({"kind": "missing tangent", "segment": segment, "obstacle": None})
-        return found + self._field(g.segment_leaves_box(*ends, self.bounds, self.tol), segment)
+        return found + self._field(col.segment_leaves_field(ends, self.bounds, self.tol), segment)
 
 
 def segments_length(segments: Sequence[dict[str, Any]]) -> float:

@@ -2,7 +2,10 @@
 
 Units: metres and radians (configs use degrees in keys named ``*_deg``; the
 loader converts). The point robot sees each obstacle as its *model circle* of
-radius ``R_i = max(rho, r_i + r)`` (docs/model.md).
+radius ``R_i = max(rho, r_i + r)`` (docs/model.md). These are defined here once:
+``Scenario.model_radii``, ``Scenario.circles()`` (the model circles and the start
+and goal turning circles, oriented) and ``Scenario.bounds`` (the kept field box);
+the device arrays, the exact solver and the plots take them from here.
 
 ``Scenario`` is host-side (plain floats and numpy arrays, validated by the
 loader in :mod:`hga_jax.host.config`). ``Scenario.arrays(dtype)`` gives the
@@ -68,6 +71,23 @@ class Scenario:
         big = float(self.model_radii.max()) if self.n else self.min_turn_radius
         return 2.0 * np.pi * max(big, self.min_turn_radius)
 
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """The box ``(xmin, xmax, ymin, ymax)`` that every path point must stay within
+        (metres): the field shrunk by the robot radius when it is kept, else infinite."""
+        f = self.field
+        if f is None or not f.keep_inside:
+            return (-np.inf, np.inf, -np.inf, np.inf)
+        r = self.robot_radius
+        return (f.xmin + r, f.xmax - r, f.ymin + r, f.ymax - r)
+
+    def circles(self, dtype: Any = np.float64) -> tuple[np.ndarray, ...]:
+        """The scenario's ``C = 2n + 4`` oriented circles in ``dtype``: ``(x, y, r, sign,
+        obstacle)``, numbered as in :mod:`hga_jax.model.tangents` (0 start CCW, 1 start
+        CW, 2 goal CCW, 3 goal CW, then each obstacle's model circle CW and CCW)."""
+        start, goal, centres, model_radii, rho, _ = self._parts(np.dtype(dtype))
+        return tangents.oriented_circles(start, goal, centres, model_radii, rho)
+
     def arrays(self, dtype: Any = np.float32) -> "ScenarioArrays":
         """The scenario as a pytree of arrays for device code, in ``dtype``, with its
         tangent table (built once per dtype; treat the arrays as read-only)."""
@@ -103,17 +123,16 @@ class Scenario:
         field = "turns_full" if collision == "full" else "turns_paper"
         return sa._replace(**{field: np.asarray(table, sa.centres.dtype)})
 
-    def _build_arrays(self, dtype: np.dtype) -> "ScenarioArrays":
-        f = self.field
-        if f is not None and f.keep_inside:
-            r = self.robot_radius
-            bounds = (f.xmin + r, f.xmax - r, f.ymin + r, f.ymax - r)
-        else:
-            bounds = (-np.inf, np.inf, -np.inf, np.inf)
+    def _parts(self, dtype: np.dtype) -> tuple[np.ndarray, ...]:
+        """start, goal, centres, model_radii, rho, bounds as numpy arrays of ``dtype``."""
         start, goal = np.asarray(self.start, dtype), np.asarray(self.goal, dtype)
         centres = np.asarray(self.centres, dtype).reshape(self.n, 2)
         model_radii = np.asarray(self.model_radii, dtype).reshape(self.n)
-        rho, box = np.asarray(self.min_turn_radius, dtype), np.asarray(bounds, dtype)
+        return (start, goal, centres, model_radii, np.asarray(self.min_turn_radius, dtype),
+                np.asarray(self.bounds, dtype))
+
+    def _build_arrays(self, dtype: np.dtype) -> "ScenarioArrays":
+        start, goal, centres, model_radii, rho, box = self._parts(dtype)
         return ScenarioArrays(
             start=start, goal=goal, centres=centres, model_radii=model_radii, rho=rho,
             bounds=box, delta=np.asarray(self.delta, dtype),

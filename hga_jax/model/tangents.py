@@ -9,7 +9,8 @@ A label ``l`` on a start, goal or obstacle position picks circle ``(1 + l) // 2`
 A tangent depends only on its two circles, so its touch points, its length and its
 violations (the segment against every obstacle, by the full or the paper criterion;
 the field; a missing tangent) are computed here once per scenario, on the host, with
-the functions of :mod:`hga_jax.model.geometry` in the scenario's float dtype. Decoding a
+the functions of :mod:`hga_jax.model.geometry` and the rules of
+:mod:`hga_jax.model.collision` in the scenario's float dtype. Decoding a
 leg is then a lookup; only the arcs depend on the chromosome. Circles with coincident
 centres (a start and a goal circle on the same turning circle) have no fixed
 tangent: the decoder puts it on the ray through the point where the path arrived
@@ -24,6 +25,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
 
@@ -77,13 +79,12 @@ def build(start, goal, centres, model_radii, rho, bounds) -> TangentTable:
     t = g.tangent(x[a], y[a], r[a], sign[a], x[b], y[b], r[b], sign[b], one, zero, tol.eps)
     dx, dy = x[b] - x[a], y[b] - y[a]
     coincident = np.sqrt(dx * dx + dy * dy) < tol.eps
-    missing = (~t.exists).astype(np.int32)
-    out = g.segment_leaves_box(t.p1x, t.p1y, t.p2x, t.p2y, bounds, tol.length).astype(np.int32)
-    seg = (t.p1x[:, None], t.p1y[:, None], t.p2x[:, None], t.p2y[:, None],
-           centres[:, 0], centres[:, 1], model_radii)
-    full = np.sum(g.segment_hits(*seg, tol.length), axis=1, dtype=np.int32)
-    paper = np.sum(g.segment_hits_paper(*seg, tol.length), axis=1, dtype=np.int32)
-    free = np.where(coincident, 0, 1).astype(np.int32)  # coincident: no segment, see module doc
+    ends, obstacles = (t.p1x, t.p1y, t.p2x, t.p2y), col.obstacles(centres, model_radii, ndim=1)
+    missing = col.missing_tangent(t.exists).astype(np.int32)
+
+    def judged(collision):  # coincident: no segment, only a missing tangent (module doc)
+        v = col.segment_violations(ends, t.exists, obstacles, bounds, tol.length, collision)
+        return np.where(coincident, missing, v).astype(np.int32)
 
     def square(v):
         return np.asarray(v).reshape(c, c)
@@ -92,5 +93,4 @@ def build(start, goal, centres, model_radii, rho, bounds) -> TangentTable:
         circles=np.stack([x, y, r, sign], axis=1), obstacle=obstacle,
         p1x=square(t.p1x), p1y=square(t.p1y), p2x=square(t.p2x), p2y=square(t.p2y),
         length=square(t.length), exists=square(t.exists), coincident=square(coincident),
-        violations_full=square(missing + free * (out + full)),
-        violations_paper=square(missing + free * (out + paper)))
+        violations_full=square(judged("full")), violations_paper=square(judged("paper")))

@@ -21,9 +21,10 @@ circle of the path, whatever the number of obstacles. The sums equal
 with coincident centres that can follow one another (``usable`` is False) is
 decoded leg by leg instead.
 
-The arcs are judged with the functions of :mod:`hga_jax.model.geometry` in float64, each
-against the obstacles that can reach its circle at all (the others cannot come
-within their radius of any of its points). Host code (numpy); units are metres.
+The arcs are judged by the rule of :func:`hga_jax.model.collision.arc_violations` in
+float64, each against the obstacles that can reach its circle at all (the others
+cannot come within their radius of any of its points). Host code (numpy); units are
+metres.
 """
 from __future__ import annotations
 
@@ -31,6 +32,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from .tangents import TangentTable
 
@@ -112,15 +114,11 @@ def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
         by = np.where(coincident[b], ay, dep_y[b][None, :])
         ax, ay = np.broadcast_to(ax, bx.shape), np.broadcast_to(ay, by.shape)
         swp = g.sweep(ax - cx[b], ay - cy[b], bx - cx[b], by - cy[b], sign[b], tol.angle)
-        vio = g.arc_leaves_box(cx[b], cy[b], r[b], ax, ay, bx, by, swp, sign[b], bounds,
-                               tol.length).astype(f8)
-        if collision == "full" and centres.shape[0]:
-            d = np.hypot(centres[:, 0] - cx[b], centres[:, 1] - cy[b])
-            near = np.flatnonzero((np.abs(d - r[b]) <= model_radii + _REACH_MARGIN)
-                                  & (np.arange(centres.shape[0]) != obstacle[b]))
-            for j in near:
-                vio += g.arc_hits(cx[b], cy[b], r[b], ax, ay, bx, by, swp, sign[b],
-                                  centres[j, 0], centres[j, 1], model_radii[j], tol.length)
+        d = np.hypot(centres[:, 0] - cx[b], centres[:, 1] - cy[b])
+        near = np.flatnonzero(np.abs(d - r[b]) <= model_radii + _REACH_MARGIN)
+        obs = col.obstacles(centres[near], model_radii[near], ndim=2, index=near)
+        vio = col.arc_violations((cx[b], cy[b], r[b], sign[b]), obstacle[b], (ax, ay, bx, by, swp),
+                                 obs, bounds, tol.length, collision).astype(f8)
         out[:, b, :, 0] = r[b] * swp + t_len[b][None, :]
         out[:, b, :, 1] = vio + t_vio[b][None, :]
     return TurnTable(entries=out.reshape(-1, 2), usable=usable(tb))
