@@ -475,3 +475,30 @@ def test_exact_in_paper_mode_says_what_the_full_test_finds(tmp_path, capsys):
     assert main(["exact", scen, "--collision", "paper", "--out", str(tmp_path / "o")]) == 0
     assert ("; this path has 5 violations under the full test (collision \"full\")"
             in capsys.readouterr().out)
+
+
+def test_run_ranges_are_one_rule_for_the_command_line_and_run_many(tmp_path, capsys):
+    from hga_jax.errors import ConfigError
+    from hga_jax.host.config import load_scenario
+    from hga_jax.running.runner import run_many
+
+    sc = load_scenario(ROBOCUP)
+    for kwargs, message in (
+            ({"seed": -1}, "run_many: seed: must be an integer in 0..4294967295, got -1"),
+            ({"seed": 2**32}, "run_many: seed: must be an integer in 0..4294967295, "
+                              "got 4294967296"),
+            ({"runs": 0}, "run_many: runs: must be an integer in 1..2147483647, got 0"),
+            ({"runs": 2, "first_run": 2**31 - 2},
+             "run_many: first_run: must be an integer in 0..2147483645, got 2147483646"),
+            ({"chunk": 1.5}, "run_many: chunk: must be an integer in 1..2147483647, got 1.5"),
+            ({"seed": True}, "run_many: seed: must be an integer in 0..4294967295, got True")):
+        with pytest.raises(ConfigError) as err:
+            run_many(sc, **kwargs)
+        assert str(err.value) == message
+    good = _write(tmp_path, GOOD, "good.toml")
+    for flags, message in ((["--seed", "4294967296"], "--seed: must be in "
+                            "0..4,294,967,295, got 4,294,967,296"),
+                           (["--runs", "2", "--first-run", "2147483646"], "--first-run: must "
+                            "be in 0..2,147,483,645, got 2,147,483,646")):
+        assert main(["run", good, *flags, "--out", str(tmp_path / "o")]) == 2
+        assert capsys.readouterr().err == f"hga-jax: error: command line: {message}\n"
