@@ -187,9 +187,12 @@ def test_one_compiled_generation_equals_the_scanned_one(robocup):
         keys = jax.random.split(kg, s.generations)
     state = ga.init(k0, sa, s)
     for g, k in enumerate(keys, start=1):
-        state, rec = ga.compiled_step(k, state, sa, s, g)
-        for name, value in rec._asdict().items():
-            assert np.array_equal(np.asarray(value), np.asarray(getattr(history, name))[g]), name
+        for name, value in ga.record(state)._asdict().items():  # generation g - 1
+            assert np.array_equal(np.asarray(value), np.asarray(getattr(history, name))[g - 1]), name
+        state = ga.compiled_step(k, state)
+        assert int(state.generation) == g + 1
+    for name, value in ga.record(state)._asdict().items():
+        assert np.array_equal(np.asarray(value), np.asarray(getattr(history, name))[-1]), name
 
 
 def test_run_alone_equals_batch_on_a_large_scene_with_other_operators():

@@ -19,13 +19,15 @@ import warnings
 from typing import Any, Callable, NamedTuple
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 
 from hga_jax.running import budget
 from hga_jax.errors import ConfigError, Interrupted
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import fitness_of
-from hga_jax.search.ga import Record, blank_batch, generations_batch, host_generation_keys
+from hga_jax.search import ga
+from hga_jax.search.ga import Record, host_generation_keys
 from hga_jax.host.report import count
 from hga_jax.model.path import decode64, evaluate_path
 from hga_jax.host.results import RunsResult
@@ -210,9 +212,9 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
             keys0 = _put(host_generation_keys(seed, ks_all[:size], settings), sharding)
-            blank = _put_tree(_host_blank(size, sa, settings), sharding)
+            blank = _put_tree(_blank_batch(size, sa, settings), sharding)
             block = _compiled(("block", settings) + shapes, lambda: jax.jit(
-                functools.partial(generations_batch, settings=settings, steps=cut.block)
+                functools.partial(_block, steps=cut.block)
             ).lower(keys0, blank, np.int32(0), sa).compile())
             compile_s, search_s = time.perf_counter() - t0, 0.0
             compiling = False
@@ -263,12 +265,28 @@ def _gathered(found: _Found, runs: int) -> _Found:
                   finish_s=found.finish_s + time.perf_counter() - t0)
 
 
-def _host_blank(size: int, sa, settings: GASettings) -> Any:
-    """:func:`~hga_jax.search.ga.blank_batch`'s shapes and dtypes as numpy zeros. Made by JAX, the
-    state compiled a dozen small programs (0.3 s, and 0.3 s more to split it over two
-    devices); generation 0 reads none of it."""
-    shapes = jax.eval_shape(lambda: blank_batch(size, sa, settings))
-    return jax.tree.map(lambda s: np.zeros(s.shape, s.dtype), shapes)
+def _block(keys, core, first, sa, steps: int):
+    """Generations ``first .. first + steps - 1`` of a batch of runs, one compiled
+    program for every block: :func:`hga_jax.search.ga.steps` over each run's
+    generation keys ``keys`` (R, G + 1), vmapped over the runs (axis ``ga.RUNS``).
+    ``core`` is the batch's state without its problem (``sa`` is passed apart, not
+    carried); the steps of a last block that runs past generation G are masked off."""
+    total = core.settings.generations
+    idx = first + jnp.arange(steps, dtype=jnp.int32)
+    live = None if (total + 1) % steps == 0 else idx <= total
+
+    def one(ks, st):
+        st, recs = ga.steps(ks[jnp.minimum(idx, total)], st._replace(problem=sa), live)
+        return st._replace(problem=None), recs
+
+    return jax.vmap(one, axis_name=ga.RUNS)(keys, core)
+
+
+def _blank_batch(size: int, sa, settings: GASettings) -> Any:
+    """:func:`hga_jax.search.ga.blank` for ``size`` runs (a leading run axis), without
+    its problem, as numpy arrays: no device program runs to make it."""
+    one = ga.blank(sa, settings)._replace(problem=None)
+    return jax.tree.map(lambda a: np.broadcast_to(a, (size,) + np.shape(a)), one)
 
 
 def _put(ks: np.ndarray, sharding: Any) -> Any:

@@ -1,24 +1,28 @@
-"""The hierarchical GA loop: one compiled generation, a scanned run, vmapped runs.
+"""The hierarchical GA loop: :func:`init` and :func:`step`, and what is built from them.
 
 Paper section 3: select, crossover and mutate the upper module (permutation),
 crossover and mutate the lower module (labels), evaluate with the penalty.
-Generation 0 is the random initial population; generations 1..G follow, so a
-run evaluates ``population * (G + 1)`` chromosomes.
+Generation 0 is the random (or seeded) initial population; generations 1..G
+follow, so a run evaluates ``population * (G + 1)`` chromosomes.
+
+One loop: ``state = init(key_0, problem, settings)`` makes generation 0, then
+``state = step(key_g, state)`` makes generation g. :func:`init` is :func:`step`
+from the :func:`blank` state, in which every run starts anew: generation 0 and
+the restarts of stalled runs are one rule, "a run that restarts takes fresh
+chromosomes", so no part of a generation depends on its number being 0.
+:func:`run` scans :func:`step` over the generation keys of one run,
+:func:`steps` over any keys from any state (the runner's blocks of generations),
+:func:`run_batch` vmaps :func:`run` over runs; :mod:`hga_jax.running.runner`
+vmaps :func:`step` over a batch of runs (``axis_name=RUNS``) and scans it in
+blocks. Taken whole, in blocks or in batches, a run gives the same bits.
 
 Everything here is a pure function of arrays, a PRNG key and the static
-:class:`~hga_jax.search.settings.GASettings`. Run ``k`` of seed ``s`` uses the key
-``fold_in(key(s), k)`` and nothing else, so it gives the same result alone or
-inside a batch of any size.
-
-A run can be taken whole (:func:`run`, one ``lax.scan`` over the generations) or
-in blocks of generations (:func:`generations` from :func:`blank`, again and again
-on the host, carrying the state; one compiled program does every block, generation
-0 included), which gives bit-identical results and lets the host stop, report
-progress and bound memory between blocks.
+:class:`~hga_jax.search.settings.GASettings` (carried in the state, without
+arrays). Run ``k`` of seed ``s`` uses the key ``fold_in(key(s), k)`` and nothing
+else, so it gives the same result alone or inside a batch of any size.
 """
 from __future__ import annotations
 
-import functools
 from typing import Any, NamedTuple
 
 import jax
@@ -29,6 +33,7 @@ from hga_jax.search import label_ops, path_ops, permutation, registry, rng
 from hga_jax.model.fitness import evaluate
 from hga_jax.model.reductions import tree_sum
 from hga_jax.model.scenario import ScenarioArrays
+from .jax_compat import RUNS, any_run, fixed_stream, static_pytree
 from .settings import GASettings
 
 
@@ -53,9 +58,18 @@ class Best(NamedTuple):
     generation: Any  # () int32
 
 
+static_pytree(GASettings)  # settings ride in the state as static data
+
+
 class GAState(NamedTuple):
+    """A run between two generations. ``problem`` is None inside programs that pass
+    the scenario's arrays apart (the runner's blocks), so they are not carried."""
+
     pop: Population
     best: Best
+    generation: Any  # () int32: generations made so far, so the number of the next one
+    problem: Any  # ScenarioArrays (float32 or float64, with legs if the settings use them)
+    settings: GASettings  # static
 
 
 class Record(NamedTuple):
@@ -68,19 +82,7 @@ class Record(NamedTuple):
     best_so_far_violations: Any
 
 
-def _fixed_stream(fn):
-    """Draw random bits with ``jax_threefry_partitionable`` off, whatever the caller's
-    setting: the stream is part of what a seed means (it also compiles faster on CPU)."""
-
-    @functools.wraps(fn)
-    def wrapped(*args, **kwargs):
-        with jax.threefry_partitionable(False):
-            return fn(*args, **kwargs)
-
-    return wrapped
-
-
-@_fixed_stream
+@fixed_stream
 def run_key(seed: int, k):
     """The PRNG key of run ``k`` of ``seed``: ``fold_in(key(seed), k)`` of JAX's default
     threefry2x32 stream, as a key of :mod:`hga_jax.search.rng` (the same numbers, faster)."""
@@ -131,15 +133,11 @@ def _update_best(best: Best, pop: Population, generation, settings: GASettings) 
     return jax.tree.map(lambda new, old: jnp.where(better, new, old), cand, best)
 
 
-def _record(pop: Population, best: Best) -> Record:
+def record(state: GAState) -> Record:
+    """What a run records of the generation ``state`` holds (the history's row)."""
+    pop, best = state.pop, state.best
     mean = tree_sum(pop.fitness) / pop.fitness.shape[-1]
     return Record(jnp.max(pop.fitness), mean, best.fitness, best.length, best.violations)
-
-
-def _unset(pop: Population) -> Best:
-    """A best-so-far that any evaluated individual beats (before generation 0)."""
-    return Best(pop.perm[0], pop.labels[0], jnp.asarray(-jnp.inf, pop.fitness.dtype),
-                pop.length[0], pop.violations[0], jnp.asarray(0, jnp.int32))
 
 
 # --- One draw of random words per generation ----------------------------------------
@@ -268,37 +266,28 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
     return perm, labels
 
 
-def _stalled(state: GAState, g, settings: GASettings):
-    """Whether generation ``g`` restarts: ``g`` is a multiple of ``restart_after`` and
-    the best-so-far was not improved in the ``restart_after`` generations before it."""
-    if not settings.restart_after:
-        return jnp.asarray(False)
-    r = settings.restart_after
-    return (g > 0) & (g % r == 0) & (state.best.generation <= g - r)
+def _restarts(state: GAState):
+    """Which runs start anew in the generation ``state`` is about to make: a blank
+    run (generation 0), and, at generations R, 2R, ... (``R = restart_after``), a
+    run whose best-so-far was not improved in the R generations before."""
+    g, r = state.generation, state.settings.restart_after
+    if not r:
+        return g == 0
+    return (g == 0) | ((g % r == 0) & (state.best.generation <= g - r))
 
 
-def _children(words, state: GAState, g, sa, settings: GASettings):
-    """The chromosomes of generation ``g`` and whether each run starts anew: the
-    children of ``state``'s population (none in generation 0, whose state is
-    blank), then, in generation 0 and every ``restart_after`` generations (``g``
-    is the same for every run of a batch, so other generations skip it), fresh
-    chromosomes for the runs that restart. One copy of each in the program (the
-    fresh population traced in two branches made the recommended preset compile
-    0.2 s longer)."""
-    n = state.pop.perm.shape[-1]
-    perm, labels = jax.lax.cond(g == 0, lambda w: (state.pop.perm, state.pop.labels),
-                                lambda w: _vary(w, state.pop, settings, sa), words)
-    restart = (g == 0) | _stalled(state, g, settings)
-    anew = g == 0
-    if settings.restart_after:
-        anew = anew | (g % settings.restart_after == 0)
+def _restarted(words, perm, labels, restart, sa, settings: GASettings):
+    """``perm, labels`` with fresh chromosomes (:func:`_fresh`, from the generation's
+    words) for a run that restarts. Drawn only when some run of the batch restarts
+    (:func:`~hga_jax.search.jax_compat.any_run`): at most one generation in
+    ``restart_after`` (seeded fresh chromosomes cost about three generations)."""
+    n = perm.shape[-1]
 
     def fresh(pl):
         fp, fl = _fresh(words, n, settings, sa)
         return jnp.where(restart, fp, pl[0]), jnp.where(restart, fl, pl[1])
 
-    perm, labels = jax.lax.cond(anew, fresh, lambda pl: pl, (perm, labels))
-    return perm, labels, restart
+    return jax.lax.cond(any_run(restart), fresh, lambda pl: pl, (perm, labels))
 
 
 def _kept(pop: Population, old: Population, restart, settings: GASettings) -> Population:
@@ -320,22 +309,62 @@ def _elitist(pop: Population, old: Population, settings: GASettings) -> Populati
     return jax.tree.map(lambda new, prev: new.at[worst].set(prev[elite]), pop, old)
 
 
-@_fixed_stream
-def init(key, sa: ScenarioArrays, settings: GASettings) -> GAState:
-    """Random initial population (generation 0) from its key, evaluated."""
-    n = sa.centres.shape[0]
-    pop = _evaluated(sa, *_fresh(_draw(key, n, settings), n, settings, sa), settings)
-    return GAState(pop, _update_best(_unset(pop), pop, 0, settings))
+def blank(problem: ScenarioArrays, settings: GASettings) -> GAState:
+    """A run before generation 0: an empty population (generation 0 replaces it whole)
+    and a best-so-far that any individual beats. Made with numpy (no device program
+    runs), in the shapes and dtypes of every later state."""
+    n, p = problem.centres.shape[0], settings.population
+    dt = problem.centres.dtype
+    pop = Population(np.zeros((p, n), np.int32), np.zeros((p, n + 2), np.int32),
+                     np.zeros(p, dt), np.zeros(p, dt), np.zeros(p, np.int32))
+    best = Best(np.zeros(n, np.int32), np.zeros(n + 2, np.int32), np.array(-np.inf, dt),
+                np.zeros((), dt), np.zeros((), np.int32), np.zeros((), np.int32))
+    return GAState(pop, best, np.zeros((), np.int32), problem, settings)
 
 
-@_fixed_stream
-def step(key, state: GAState, sa: ScenarioArrays, settings: GASettings, generation):
-    """One generation after the first, from its key: select, vary both modules,
-    evaluate, keep elites, track the best (the generation of :func:`generations`)."""
-    return _generation(key, state, generation, sa, settings)
+@fixed_stream
+def init(key, problem: ScenarioArrays, settings: GASettings) -> GAState:
+    """Generation 0 of a run from its key: :func:`step` from the :func:`blank` state."""
+    return step(key, blank(problem, settings))
 
 
-@_fixed_stream
+@fixed_stream
+def step(key, state: GAState) -> GAState:
+    """The next generation of a run from its key: select and vary the population
+    (both modules, then the path move), give the runs that restart fresh chromosomes
+    instead, evaluate, keep the elites (not in a restart), track the best. One draw
+    of words serves the whole generation (see the layout above)."""
+    settings, sa, g = state.settings, state.problem, state.generation
+    words = _draw(key, sa.centres.shape[0], settings)
+    restart = _restarts(state)
+    perm, labels = _vary(words, state.pop, settings, sa)  # of no use in a restart
+    perm, labels = _restarted(words, perm, labels, restart, sa, settings)
+    pop = _kept(_evaluated(sa, perm, labels, settings), state.pop, restart, settings)
+    best = _update_best(state.best, pop, g, settings)
+    return GAState(pop, best, g + 1, sa, settings)
+
+
+@fixed_stream
+def steps(keys, state: GAState, live=None):
+    """:func:`step` once per key of ``keys`` (a leading axis) from ``state``:
+    ``(state after the last, Record per step)``. ``live`` (bools, one per key) masks
+    steps off: such a step leaves the state as it was (a block of generations that
+    runs past the last). The scan does not carry ``state.problem``."""
+    sa = state.problem
+
+    def body(core, xs):
+        k, on = xs
+        new = step(k, core._replace(problem=sa))._replace(problem=None)
+        if live is not None:
+            new = jax.tree.map(lambda a, b: jnp.where(on, a, b), new, core)
+        return new, record(new)
+
+    on = jnp.ones(keys.shape[0], bool) if live is None else live
+    core, recs = jax.lax.scan(body, state._replace(problem=None), (keys, on))
+    return core._replace(problem=sa), recs
+
+
+@fixed_stream
 def generation_keys(key, settings: GASettings):
     """The keys of generations 0..G of the run with key ``key``: ``(G + 1,)``.
 
@@ -359,77 +388,10 @@ def host_generation_keys(seed: int, ks, settings: GASettings):
     return jax.random.wrap_key_data(data, impl=rng.IMPL)
 
 
-@_fixed_stream
-def run(key, sa: ScenarioArrays, settings: GASettings):
+@fixed_stream
+def run(key, problem: ScenarioArrays, settings: GASettings):
     """One whole run: ``(final GAState, Record of arrays shaped (G + 1,))``."""
-    keys = generation_keys(key, settings)
-    state = init(keys[0], sa, settings)
-    first = _record(state.pop, state.best)
-
-    def body(st, xs):
-        k, gen = xs
-        return step(k, st, sa, settings, gen)
-
-    gens = jnp.arange(1, settings.generations + 1, dtype=jnp.int32)
-    state, recs = jax.lax.scan(body, state, (keys[1:], gens))
-    history = jax.tree.map(lambda a, b: jnp.concatenate([a[None], b]), first, recs)
-    return state, history
-
-
-def blank(sa: ScenarioArrays, settings: GASettings) -> GAState:
-    """The state of a run before generation 0 (zeros; :func:`generations` from 0
-    ignores it). Shapes and dtypes are those of every later state."""
-    n, p = sa.centres.shape[0], settings.population
-    dt = jnp.asarray(sa.centres).dtype
-    pop = Population(jnp.zeros((p, n), jnp.int32), jnp.zeros((p, n + 2), jnp.int32),
-                     jnp.zeros((p,), dt), jnp.zeros((p,), dt), jnp.zeros((p,), jnp.int32))
-    return GAState(pop, _unset(pop))
-
-
-def _generation(key, state: GAState, g, sa: ScenarioArrays, settings: GASettings):
-    """Generation ``g`` (traced) of a run from its key: 0 draws the initial population,
-    later ones vary ``state``; one draw and one evaluation serve both."""
-    words = _draw(key, sa.centres.shape[0], settings)
-    perm, labels, restart = _children(words, state, g, sa, settings)
-    pop = _evaluated(sa, perm, labels, settings)
-    pop = _kept(pop, state.pop, restart, settings)
-    before = jax.tree.map(lambda a, b: jnp.where(g > 0, a, b), state.best, _unset(pop))
-    best = _update_best(before, pop, g, settings)
-    return GAState(pop, best), _record(pop, best)
-
-
-@_fixed_stream
-def generations(keys, state: GAState, first, sa: ScenarioArrays, settings: GASettings,
-                steps: int):
-    """Generations ``first .. first + steps - 1`` of the run whose generation keys are
-    ``keys`` (:func:`generation_keys`), from ``state`` (:func:`blank` when ``first`` is
-    0): ``(GAState, Record of (steps,))``.
-
-    The very generations :func:`run` computes, so a run taken in blocks is
-    bit-identical to the whole scan. ``first`` (>= 0) may be traced: one compiled
-    program serves every block, generation 0 included. Generations past
-    ``settings.generations`` leave the state unchanged and record zeros (the host
-    drops them); ``steps`` is static.
-    """
-    total = settings.generations
-    ragged = (total + 1) % steps != 0
-
-    def body(st, i):
-        g = first + i
-        key = keys[jnp.minimum(g, total)]
-        if not ragged:
-            return _generation(key, st, g, sa, settings)
-        return jax.lax.cond(g <= total, lambda s: _generation(key, s, g, sa, settings),
-                            lambda s: (s, _zero_record(s)), st)
-
-    return jax.lax.scan(body, state, jnp.arange(steps, dtype=jnp.int32))
-
-
-def _zero_record(state: GAState) -> Record:
-    best = state.best
-    return Record(jnp.zeros_like(best.fitness), jnp.zeros_like(best.fitness),
-                  jnp.zeros_like(best.fitness), jnp.zeros_like(best.length),
-                  jnp.zeros_like(best.violations))
+    return steps(generation_keys(key, settings), blank(problem, settings))
 
 
 def run_indices(ks):
@@ -441,27 +403,15 @@ def run_indices(ks):
     return ks.astype(jnp.int32)
 
 
-def generations_batch(keys, state: GAState, first, sa: ScenarioArrays, settings: GASettings,
-                      steps: int):
-    """:func:`generations` for a batch of runs: ``keys`` (R, G + 1) from
-    :func:`host_generation_keys` and their states (leading run axis), vmapped."""
-    return jax.vmap(lambda kk, st: generations(kk, st, first, sa, settings, steps))(keys, state)
+compiled_step = jax.jit(step)
+"""One generation as one compiled function: ``compiled_step(key, state)``."""
 
 
-def blank_batch(runs: int, sa: ScenarioArrays, settings: GASettings) -> GAState:
-    """:func:`blank` for ``runs`` runs (leading run axis)."""
-    return jax.tree.map(lambda a: jnp.broadcast_to(a, (runs,) + a.shape), blank(sa, settings))
-
-
-compiled_step = jax.jit(step, static_argnames="settings")
-"""One generation as one compiled function: ``compiled_step(key, state, sa, settings, g)``."""
-
-
-def run_batch(seed, ks, sa: ScenarioArrays, settings: GASettings):
+def run_batch(seed, ks, problem: ScenarioArrays, settings: GASettings):
     """Runs ``ks`` of ``seed`` (a sequence or 1-D integer array of run indices), vmapped:
     ``(Best, Record)`` with a leading run axis; the history is (runs, G + 1)."""
     def one(k):
-        state, history = run(run_key(seed, k), sa, settings)
+        state, history = run(run_key(seed, k), problem, settings)
         return state.best, history
 
-    return jax.vmap(one)(run_indices(ks))
+    return jax.vmap(one, axis_name=RUNS)(run_indices(ks))

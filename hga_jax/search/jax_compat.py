@@ -1,0 +1,59 @@
+"""Everything of the search that depends on JAX's version, in one place.
+
+hga-jax pins ``jax>=0.10.2,<0.11`` because a seed's random stream is part of
+what the seed means. Moving to another JAX release (0.11 and later need
+Python 3.12) is a change of this file, checked by ``tests/test_rng.py``
+(the stream against ``jax.random``) and the seeded result tests:
+
+- :func:`define_prng_impl`: JAX's hook for a PRNG implementation of our own
+  (``jax.extend.random``, an API JAX may move), used by :mod:`hga_jax.search.rng`;
+- :func:`fixed_stream`: the threefry layout a seed was defined with
+  (``jax_threefry_partitionable`` off, whatever the caller's setting);
+- :func:`any_run`: a flag over the runs of a vmapped batch (a collective over the
+  named ``vmap`` axis, or the run's own flag when there is no batch);
+- :func:`static_pytree`: a hashable settings class as a pytree without leaves.
+"""
+from __future__ import annotations
+
+import functools
+
+import jax
+import jax.numpy as jnp
+from jax.extend.random import define_prng_impl
+
+__all__ = ["RUNS", "any_run", "define_prng_impl", "fixed_stream", "static_pytree"]
+
+RUNS = "runs"
+"""The name of the ``vmap`` axis over the runs of a batch (``jax.vmap(..., axis_name=RUNS)``)."""
+
+
+def fixed_stream(fn):
+    """``fn`` drawing its random bits with ``jax_threefry_partitionable`` off (the
+    original threefry layout, the one a seed means; it also compiles faster on CPU)."""
+
+    @functools.wraps(fn)
+    def wrapped(*args, **kwargs):
+        with jax.threefry_partitionable(False):
+            return fn(*args, **kwargs)
+
+    return wrapped
+
+
+def any_run(flag):
+    """Whether ``flag`` (a bool scalar of one run) holds for any run of the batch.
+
+    Under ``jax.vmap(..., axis_name=RUNS)`` this is one value for the whole batch
+    (not batched), so a ``lax.cond`` on it stays a branch and is not turned into a
+    select of both sides; outside such a ``vmap`` it is the run's own flag.
+    """
+    try:
+        return jax.lax.psum(jnp.asarray(flag, jnp.int32), RUNS) > 0
+    except NameError:  # no vmapped batch of runs around this call: JAX's "unbound axis name"
+        return jnp.asarray(flag)
+
+
+def static_pytree(cls):
+    """Register the frozen, hashable class ``cls`` as a pytree with no leaves: an
+    instance inside a state is static (part of the compiled program's identity)."""
+    jax.tree_util.register_static(cls)
+    return cls
