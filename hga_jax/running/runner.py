@@ -23,7 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from hga_jax.running import budget
-from hga_jax.errors import ConfigError, Interrupted
+from hga_jax.errors import Interrupted
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import fitness_of
 from hga_jax.search import ga
