@@ -1,4 +1,5 @@
 """Study machinery without GA runs: study files, statistics, scene families."""
+import json
 import math
 import os
 
@@ -159,3 +160,50 @@ def test_clutter_density_sets_the_field():
     assert d["field"]["xmax"] == pytest.approx(field_size(30, 1.4)[0], abs=1e-4)
     text = to_toml(d, "a comment")
     assert text.startswith("# a comment\nname = \"c30\"")
+
+
+def _cell(config, gaps, population=10):
+    """A cell document as the store writes it (only what the table reads)."""
+    n = len(gaps)
+    hit = [g is not None and g < 1e-6 for g in gaps]
+    return {"config": config, "family": "f", "scenario": "s0", "obstacles": 3, "seed": 7,
+            "runs": n, "settings": {"population": population, "perm_crossover": "cx"},
+            "optimum": 2.5, "evaluations_per_run": 6 * population, "search_s": 0.5 * n,
+            "columns": {"run": list(range(n)), "length": [2.5 * (1.5 if g is None else 1 + g) for g in gaps],
+                        "feasible": [g is not None for g in gaps], "gap": gaps, "hit": hit,
+                        "evaluations_hit": [3 * population if h else None for h in hit]}}
+
+
+def test_run_table_files_keep_values_and_missing_ones(tmp_path):
+    import pandas as pd
+
+    from hga_jax.study import table
+
+    tab = table.build("t", [_cell("a", [0.0, 0.1, None]), _cell("b", [0.25, 0.0, 0.0])])
+    assert list(tab.columns) == ["study", "config", "family", "scenario", "obstacles", "seed",
+                                 "run", "population", "perm_crossover", "length", "feasible",
+                                 "gap", "hit", "evaluations_hit", "optimum", "evaluations",
+                                 "time_s"]
+    assert len(tab) == tab.rows == 6
+    assert table.numeric(tab, "gap").tolist() == [0.0, 0.1, math.inf, 0.25, 0.0, 0.0]
+    assert table.numeric(tab, "evaluations_hit").tolist() == [30, math.inf, math.inf, math.inf,
+                                                              30, 30]
+    table.write_csv(str(tmp_path / "runs.csv"), tab)
+    lines = (tmp_path / "runs.csv").read_text().splitlines()
+    assert lines[1] == "t,a,f,s0,3,7,0,10,cx,2.5,True,0.0,True,30,2.5,60,0.5"
+    assert lines[3] == "t,a,f,s0,3,7,2,10,cx,3.75,False,,False,,2.5,60,0.5"  # missing: empty
+    assert lines[2].split(",")[9] == repr(2.5 * 1.1)  # floats round-trip
+    table.write_parquet(str(tmp_path / "runs.parquet"), tab)
+    back = pd.read_parquet(tmp_path / "runs.parquet")
+    assert list(back.columns) == list(tab.columns)
+    assert back["gap"].isna().tolist() == [False, False, True, False, False, False]
+    assert back["evaluations_hit"].isna().tolist() == [False, True, True, True, False, False]
+    assert str(back["evaluations_hit"].dtype) == "Int64" and back["evaluations_hit"][0] == 30
+    assert back["length"].tolist() == tab["length"].tolist()
+    table.write_jsonl(str(tmp_path / "runs.jsonl"), tab)
+    rows = [json.loads(x) for x in (tmp_path / "runs.jsonl").read_text().splitlines()]
+    assert rows[2]["gap"] is None and rows[2]["evaluations_hit"] is None
+    assert rows[0]["evaluations_hit"] == 30 and rows[0]["hit"] is True
+    md = table.markdown(pd.DataFrame([["x", "1.5%"]], columns=["configuration", "hit rate"]))
+    assert md.splitlines()[0] == "| configuration | hit rate |"
+    assert md.splitlines()[2] == "| x | 1.5% |"

@@ -17,15 +17,16 @@ import os
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
 from hga_jax.host.config import load_scenario
 from hga_jax.model.fitness import fitness_of
 from hga_jax.model.path import evaluate_path, from_chromosome
 from hga_jax.host.plots import plot_path
-from hga_jax.host.output import write_csv, write_file
+from hga_jax.host.output import write_file
 from . import stats
-from .figures import plt, save
-from .table import Table
+from .figures import save, subplots
+from .table import markdown, numeric, write_csv
 
 PAPER_CLAIMS = {  # the paper's section 4 (one run on its Fig. 4 scene, MATLAB)
     "generation_optimum": 27, "generation_near_optimal": 11, "seconds_per_run": 5.0,
@@ -43,7 +44,7 @@ def _median_int(values) -> str:
         if v else "never"
 
 
-def paper(study, tab: Table, docs, rows, folder: str) -> list[str]:
+def paper(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     ref = study.configs[0].label
     doc = next(d for d in docs if d["config"] == ref)
     sc = load_scenario(doc["scenario_file"])
@@ -58,7 +59,7 @@ def paper(study, tab: Table, docs, rows, folder: str) -> list[str]:
     cur = doc["curves"]
     gens = np.arange(len(cur["run0_best_fitness"]))
     opt_fit = fitness_of(doc["optimum"], 0, sc.delta)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    fig, (a1, a2) = subplots(1, 2, figsize=(10, 4), sharey=True)
     a1.plot(gens, cur["run0_best_fitness"], color="tab:blue", label="best of generation")
     a1.plot(gens, cur["run0_best_so_far_fitness"], color="tab:orange", ls="--",
             label="best so far")
@@ -79,37 +80,38 @@ def paper(study, tab: Table, docs, rows, folder: str) -> list[str]:
     files.append(save(fig, os.path.join(folder, "figures", "paper_fig5_fitness.png")))
 
     out = []
-    for group in dict.fromkeys(tab["family"].tolist()):
-        m = (tab["family"] == group) & (tab["config"] == ref)
-        n, k = int(m.sum()), int(tab["hit"][m].astype(bool).sum())
+    family, config = tab["family"].to_numpy(), tab["config"].to_numpy()
+    for group in dict.fromkeys(family.tolist()):
+        m = (family == group) & (config == ref)
+        n, k = int(m.sum()), int(tab["hit"].to_numpy(bool)[m].sum())
         lo, hi = stats.wilson(k, n)
-        g_hit, g_near = tab["generation_hit"][m], tab["generation_1pct"][m]
+        g_hit, g_near = (tab[name].to_numpy()[m] for name in ("generation_hit", "generation_1pct"))
         out.append({
-            "group": group, "scenes": len(set(tab["scenario"][m].tolist())), "runs": n,
+            "group": group, "scenes": len(set(tab["scenario"].to_numpy()[m].tolist())), "runs": n,
             "hit_rate": k / n, "hit_rate_ci_low": lo, "hit_rate_ci_high": hi,
             "generation_hit": _median_int(g_hit), "generation_1pct": _median_int(g_near),
             "within_1pct_by_gen_11": float(np.mean((g_near >= 0) & (g_near <= 11))),
             "hit_by_gen_27": float(np.mean((g_hit >= 0) & (g_hit <= 27))),
-            "ms_per_run": 1000 * float(np.mean(tab.numeric("time_s")[m])),
+            "ms_per_run": 1000 * float(np.mean(numeric(tab, "time_s")[m])),
         })
-    write_csv(os.path.join(folder, "paper_claims.csv"), out)
+    write_csv(os.path.join(folder, "paper_claims.csv"), pd.DataFrame(out), missing="nan")
     run0 = [i for i, r in enumerate(doc["columns"]["run"]) if r == 0][0]
-    c = doc["columns"]
+    c, first = doc["columns"], out[0]
+    claims = pd.DataFrame([
+        ["optimum reached by generation", PAPER_CLAIMS["generation_optimum"],
+         c["generation_hit"][run0] if c["hit"][run0] else "not reached",
+         f"{first['generation_hit']} among hits; {_pct(first['hit_by_gen_27'])} of runs "
+         f"by generation 27"],
+        ["near-optimal (within 1%) by generation", PAPER_CLAIMS["generation_near_optimal"],
+         c["generation_1pct"][run0] if c["generation_1pct"][run0] >= 0 else "never",
+         f"{first['generation_1pct']}; {_pct(first['within_1pct_by_gen_11'])} of runs by "
+         f"generation 11"],
+        ["time per run", f"about {PAPER_CLAIMS['seconds_per_run']:g} s", "-",
+         f"{first['ms_per_run']:.2f} ms (batched search, compile {doc['compile_s']:.1f} s once)"],
+    ], columns=["claim", "paper (one run, MATLAB)", "run 0 here", "all runs here"])
     lines = [f"# {study.name}: the paper's claims beside our measurements", "",
              f"Reference configuration `{ref}`; first scene `{doc['scenario']}` "
-             f"(optimum {doc['optimum']:.4f} m).", "",
-             "| claim | paper (one run, MATLAB) | run 0 here | all runs here |", "|---|---|---|---|",
-             f"| optimum reached by generation | {PAPER_CLAIMS['generation_optimum']} | "
-             f"{c['generation_hit'][run0] if c['hit'][run0] else 'not reached'} | "
-             f"{out[0]['generation_hit']} among hits; {_pct(out[0]['hit_by_gen_27'])} of runs "
-             f"by generation 27 |",
-             f"| near-optimal (within 1%) by generation | {PAPER_CLAIMS['generation_near_optimal']}"
-             f" | {c['generation_1pct'][run0] if c['generation_1pct'][run0] >= 0 else 'never'} | "
-             f"{out[0]['generation_1pct']}; {_pct(out[0]['within_1pct_by_gen_11'])} of runs by "
-             f"generation 11 |",
-             f"| time per run | about {PAPER_CLAIMS['seconds_per_run']:g} s | - | "
-             f"{out[0]['ms_per_run']:.2f} ms (batched search, compile "
-             f"{doc['compile_s']:.1f} s once) |", "",
+             f"(optimum {doc['optimum']:.4f} m).", "", markdown(claims), "",
              "Hit rate within the run's generations (95% Wilson interval):", ""]
     lines += [f"- {r['group']} ({r['scenes']} scenes, {r['runs']} runs): {_pct(r['hit_rate'])} "
               f"[{_pct(r['hit_rate_ci_low'])}, {_pct(r['hit_rate_ci_high'])}]" for r in out]
@@ -118,13 +120,14 @@ def paper(study, tab: Table, docs, rows, folder: str) -> list[str]:
     return files + [os.path.join(folder, n) for n in ("paper_claims.csv", "paper_claims.md")]
 
 
-def penalty(study, tab: Table, docs, rows, folder: str) -> list[str]:
+def penalty(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     out = []
-    feasible = tab["feasible"].astype(bool)
-    colliding = tab["violations_full"].astype(int) > 0
-    for group in dict.fromkeys(tab["family"].tolist()):
+    feasible = tab["feasible"].to_numpy(bool)
+    colliding = tab["violations_full"].to_numpy(int) > 0
+    family, config = tab["family"].to_numpy(), tab["config"].to_numpy()
+    for group in dict.fromkeys(family.tolist()):
         for c in study.configs:
-            m = (tab["family"] == group) & (tab["config"] == c.label)
+            m = (family == group) & (config == c.label)
             if not m.any():
                 continue
             acc = int((m & feasible).sum())
@@ -135,41 +138,42 @@ def penalty(study, tab: Table, docs, rows, folder: str) -> list[str]:
                         "accepted": acc, "accepted_but_colliding": bad,
                         "rate": bad / acc if acc else math.nan,
                         "rate_ci_low": lo, "rate_ci_high": hi})
-    write_csv(os.path.join(folder, "penalty.csv"), out)
-    lines = ["# Best paths accepted by the run's collision test but colliding under the full "
-             "test", "", "| group | configuration | collision | penalty weight | runs | accepted |"
-             " colliding among accepted [95% Wilson] |", "|---|---|---|---|---|---|---|"]
-    lines += [f"| {r['group']} | {r['config']} | {r['collision']} | {r['penalty_weight']:g} | "
-              f"{r['runs']} | {r['accepted']} | {r['accepted_but_colliding']} "
-              f"({_pct(r['rate']) if r['accepted'] else '-'}"
-              + (f" [{_pct(r['rate_ci_low'])}, {_pct(r['rate_ci_high'])}]" if r["accepted"] else "")
-              + ") |" for r in out]
-    text = "\n".join(lines) + "\n"
+    write_csv(os.path.join(folder, "penalty.csv"), pd.DataFrame(out), missing="nan")
+    cells = pd.DataFrame([
+        [r["group"], r["config"], r["collision"], f"{r['penalty_weight']:g}", r["runs"],
+         r["accepted"], f"{r['accepted_but_colliding']} ("
+         + (f"{_pct(r['rate'])} [{_pct(r['rate_ci_low'])}, {_pct(r['rate_ci_high'])}]"
+            if r["accepted"] else "-") + ")"] for r in out],
+        columns=["group", "configuration", "collision", "penalty weight", "runs", "accepted",
+                 "colliding among accepted [95% Wilson]"])
+    title = "# Best paths accepted by the run's collision test but colliding under the full test"
+    text = f"{title}\n\n{markdown(cells)}\n"
     write_file(os.path.join(folder, "penalty.md"), lambda fh: fh.write(text))
     return [os.path.join(folder, "penalty.csv"), os.path.join(folder, "penalty.md")]
 
 
-def scaling(study, tab: Table, docs, rows, folder: str) -> list[str]:
+def scaling(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     out = []
-    gap = tab.numeric("gap")
+    gap, hit = numeric(tab, "gap"), tab["hit"].to_numpy(bool)
+    config, obstacles = tab["config"].to_numpy(), tab["obstacles"].to_numpy()
+    time_s, evals = numeric(tab, "time_s"), numeric(tab, "evaluations")
     for c in study.configs:
-        for n in sorted(set(tab["obstacles"].tolist())):
-            m = (tab["config"] == c.label) & (tab["obstacles"] == n)
+        for n in sorted(set(obstacles.tolist())):
+            m = (config == c.label) & (obstacles == n)
             if not m.any():
                 continue
             ds = [d for d in docs if d["config"] == c.label and d["obstacles"] == n]
-            k, runs = int(tab["hit"][m].astype(bool).sum()), int(m.sum())
+            k, runs = int(hit[m].sum()), int(m.sum())
             lo, hi = stats.wilson(k, runs)
             out.append({"config": c.label, "obstacles": n, "scenes": len(ds), "runs": runs,
                         "hit_rate": k / runs, "hit_rate_ci_low": lo, "hit_rate_ci_high": hi,
                         "gap_median": float(np.median(gap[m])),
                         "feasible_rate": float(np.mean(np.isfinite(gap[m]))),
-                        "ga_ms_per_run": 1000 * float(np.mean(tab.numeric("time_s")[m])),
-                        "ga_evaluations_per_s": float(np.sum(tab.numeric("evaluations")[m])
-                                                      / np.sum(tab.numeric("time_s")[m])),
+                        "ga_ms_per_run": 1000 * float(np.mean(time_s[m])),
+                        "ga_evaluations_per_s": float(np.sum(evals[m]) / np.sum(time_s[m])),
                         "exact_ms_median": 1000 * float(np.median([d["exact_s"] for d in ds]))})
-    write_csv(os.path.join(folder, "scaling.csv"), out)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    write_csv(os.path.join(folder, "scaling.csv"), pd.DataFrame(out), missing="nan")
+    fig, (a1, a2) = subplots(1, 2, figsize=(10, 4))
     for c in study.configs:
         rs = [r for r in out if r["config"] == c.label]
         n = [r["obstacles"] for r in rs]

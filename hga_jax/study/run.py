@@ -2,10 +2,12 @@
 
 Outputs in the study folder (default ``results/<name>``, ``results/<name>_quick``
 with ``quick``): ``scenes/`` (every scene as a scenario TOML file), ``cells/``
-(one JSON file per finished cell), ``runs.csv`` and ``runs.jsonl`` (one row per
-run), ``summary.csv`` and ``summary.md`` (per group and configuration),
-``by_scene.csv``, ``figures/*.png``, the analyses' files, and ``study.json``
-(what was run, with versions). Everything is written atomically.
+(one JSON file per finished cell), ``runs.csv``, ``runs.parquet`` and
+``runs.jsonl`` (one row per run), ``summary.csv``, ``summary.parquet`` and
+``summary.md`` (per group and configuration), ``by_scene.csv``, ``figures/*.png``,
+the analyses' files, and ``study.json`` (what was run, with versions). Tables are
+pandas DataFrames (:mod:`hga_jax.study.table` for their files). Everything is
+written atomically.
 """
 from __future__ import annotations
 
@@ -17,7 +19,9 @@ from typing import Any
 
 from hga_jax.host.config import load_scenario
 from hga_jax.model.path import decode64
-from hga_jax.host.output import write_csv, write_file, write_json
+import pandas as pd
+
+from hga_jax.host.output import write_file, write_json
 from hga_jax.host.results import json_safe
 from hga_jax.running.runner import run_many
 from . import figures, summary, table
@@ -32,7 +36,7 @@ class Outcome:
 
     folder: str
     study: Study
-    table: table.Table
+    table: table.RunTable  # a DataFrame, one row per run
     summary: list[dict[str, Any]]
     docs: list[dict[str, Any]]
     cells_run: int
@@ -45,12 +49,14 @@ def versions() -> dict[str, str]:
 
     import jax
     import numpy
+    import pyarrow
     import scipy
 
     from hga_jax import __version__
 
     return {"hga_jax": __version__, "jax": jax.__version__, "numpy": numpy.__version__,
-            "scipy": scipy.__version__, "python": platform.python_version()}
+            "scipy": scipy.__version__, "pandas": pd.__version__,
+            "pyarrow": pyarrow.__version__, "python": platform.python_version()}
 
 
 def default_folder(study: Study) -> str:
@@ -123,15 +129,17 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
     if docs:
         j = lambda name: os.path.join(folder, name)  # noqa: E731
         table.write_csv(j("runs.csv"), tab)
+        table.write_parquet(j("runs.parquet"), tab)
         table.write_jsonl(j("runs.jsonl"), tab)
         rows = summary.summarize(tab, labels)
-        write_csv(j("summary.csv"), rows)
-
-        md = summary.markdown(rows, f"Study {study.name}: {tab.rows} runs")
+        table.write_csv(j("summary.csv"), pd.DataFrame(rows), missing="nan")
+        table.write_parquet(j("summary.parquet"), pd.DataFrame(rows))
+        md = summary.markdown(rows, f"Study {study.name}: {len(tab)} runs")
         write_file(j("summary.md"), lambda fh: fh.write(md))
-        write_csv(j("by_scene.csv"), summary.by_scene(tab, labels))
-        files += [j(n) for n in ("runs.csv", "runs.jsonl", "summary.csv", "summary.md",
-                                 "by_scene.csv")]
+        table.write_csv(j("by_scene.csv"), pd.DataFrame(summary.by_scene(tab, labels)),
+                        missing="nan")
+        files += [j(n) for n in ("runs.csv", "runs.parquet", "runs.jsonl", "summary.csv",
+                                 "summary.parquet", "summary.md", "by_scene.csv")]
         files += figures.all_figures(tab, docs, rows, labels, j("figures"))
         from . import analyses
 

@@ -23,6 +23,7 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
+import tomli_w
 
 from hga_jax.host.config import scenario_from_dict
 from hga_jax.model.exact import solve
@@ -102,16 +103,13 @@ def scene_dict(name: str, w: float, h: float, start, goal, centres) -> dict:
 
 
 def to_toml(d: dict, comment: str = "") -> str:
-    """TOML text of a scenario mapping (the layout of ``configs/scenarios``)."""
-    lines = [f"# {line}" for line in comment.splitlines()]
-    lines.append(f'name = "{d["name"]}"')
-    for table in ("robot", "field", "start", "goal"):
-        lines.append(f"\n[{table}]")
-        for k, v in d[table].items():
-            lines.append(f"{k} = {str(v).lower() if isinstance(v, bool) else repr(v)}")
-    for o in d["obstacles"]:
-        lines.append(f"\n[[obstacles]]\nx = {o['x']!r}\ny = {o['y']!r}")
-    return "\n".join(lines) + "\n"
+    """TOML text (``tomli_w``) of a scenario mapping, ``comment`` lines first as ``#``
+    comments, in the layout of ``configs/scenarios``: each obstacle its own
+    ``[[obstacles]]`` table (``tomli_w`` alone writes short ones as one inline array).
+    The text is part of a cell's identity (:func:`~hga_jax.study.store.cell_id`)."""
+    head = "".join(f"# {line}\n" for line in comment.splitlines())
+    rest = tomli_w.dumps({k: v for k, v in d.items() if k != "obstacles"})
+    return head + rest + "".join("\n[[obstacles]]\n" + tomli_w.dumps(o) for o in d["obstacles"])
 
 
 def _blocked(sc: Scenario) -> bool:

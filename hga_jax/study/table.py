@@ -1,21 +1,27 @@
-"""The tidy table of a study: one row per run, rebuilt from the cell files.
+"""The tidy table of a study: a pandas DataFrame, one row per run, rebuilt from the cell files.
 
 Columns: the study, configuration label, family, scenario, obstacle count, seed
 and run index; every GA setting; the run's best ``length`` (m, float64),
 ``feasible``, ``violations`` (the search's collision mode), ``violations_full``
-(the same path under the full test), ``gap`` to the exact optimum (empty when
+(the same path under the full test), ``gap`` to the exact optimum (missing when
 infeasible), ``hit`` (gap below 1e-6), ``optimum`` (m); ``generation_best`` (first
 reached its best), the generation and evaluations to within 5 % and 1 % and to the
-hit (empty: never), ``evaluations`` (the run's budget) and ``time_s`` (the run's
+hit (missing: never), ``evaluations`` (the run's budget) and ``time_s`` (the run's
 share of its batch's search time, compile excluded).
+
+A column with missing values is float64 with NaN (floats), nullable ``Int64``
+(integers) or object (anything else); :func:`numeric` reads any column as float64
+with missing values as infinity. Files: CSV (missing values empty, floats in
+Python's shortest round-trip form, booleans ``True``/``False``), Parquet (pyarrow,
+missing values null), JSON lines (missing values ``null``), Markdown.
 """
 from __future__ import annotations
 
-import csv
 import json
 from typing import Any, Iterable
 
 import numpy as np
+import pandas as pd
 
 from hga_jax.host.output import write_file
 from hga_jax.host.results import json_safe
@@ -23,23 +29,34 @@ from hga_jax.host.results import json_safe
 ID_COLUMNS = ("study", "config", "family", "scenario", "obstacles", "seed")
 
 
-class Table(dict):
-    """Columns as numpy arrays (object arrays where values may be missing)."""
+class RunTable(pd.DataFrame):
+    """The table of runs: a DataFrame; ``rows`` is ``len(table)`` (kept for callers
+    written against the earlier table type)."""
 
     @property
     def rows(self) -> int:
-        return len(next(iter(self.values()))) if self else 0
-
-    def where(self, mask: np.ndarray) -> "Table":
-        return Table({k: v[mask] for k, v in self.items()})
-
-    def numeric(self, name: str) -> np.ndarray:
-        """A column as float64, missing values as inf (a target never reached, a gap
-        of an infeasible run)."""
-        return np.array([np.inf if v is None else float(v) for v in self[name]], np.float64)
+        return len(self)
 
 
-def build(study: str, docs: Iterable[dict[str, Any]]) -> Table:
+def _column(values: list) -> Any:
+    """A column's values: numpy's own array when none is missing (as ``np.asarray``
+    types it), else the pandas dtype that keeps the others' values exactly."""
+    present = [v for v in values if v is not None]
+    if len(present) == len(values):
+        try:
+            return np.asarray(values)
+        except (ValueError, TypeError):
+            pass
+    elif present and all(isinstance(v, int) and not isinstance(v, bool) for v in present):
+        return pd.array(values, dtype="Int64")
+    elif present and all(isinstance(v, float) for v in present):
+        return np.array([np.nan if v is None else v for v in values], np.float64)
+    arr = np.empty(len(values), object)
+    arr[:] = values
+    return arr
+
+
+def build(study: str, docs: Iterable[dict[str, Any]]) -> RunTable:
     """One row per run of every cell document, in plan order."""
     parts: dict[str, list] = {}
     settings_keys: list[str] = []
@@ -60,50 +77,50 @@ def build(study: str, docs: Iterable[dict[str, Any]]) -> Table:
             parts.setdefault(k, []).extend(v)
     order = list(ID_COLUMNS) + ["run"] + settings_keys + [
         k for k in parts if k not in ID_COLUMNS and k != "run" and k not in settings_keys]
-    out = Table()
-    for k in order:
-        if k in parts:
-            values = parts[k]
-            arr = np.empty(len(values), object)
-            arr[:] = values
-            if all(v is not None for v in values):
-                try:
-                    arr = np.asarray(values)
-                except (ValueError, TypeError):
-                    pass
-            out[k] = arr
-    return out
+    return RunTable({k: _column(parts[k]) for k in order if k in parts})
 
 
-def _py(v: Any) -> Any:
-    return v.item() if isinstance(v, np.generic) else v
+def numeric(table: pd.DataFrame, name: str) -> np.ndarray:
+    """A column as float64, missing values as inf (a target never reached, a gap of an
+    infeasible run)."""
+    col = pd.to_numeric(table[name]).astype("Float64")
+    return col.fillna(np.inf).to_numpy(np.float64)
 
 
-def write_csv(path: str, table: Table) -> None:
-    names = list(table)
+def records(table: pd.DataFrame) -> list[dict[str, Any]]:
+    """The rows as dicts of Python values, missing values as None."""
+    cols = {k: [None if v is pd.NA or (isinstance(v, float) and np.isnan(v)) else v
+                for v in table[k].tolist()] for k in table.columns}
+    return [dict(zip(cols, row)) for row in zip(*cols.values())]
 
+
+def write_csv(path: str, table: pd.DataFrame, missing: str = "") -> None:
+    """CSV with a header, atomically; ``missing`` stands for a missing value (NaN)."""
+    write_file(path, lambda fh: table.to_csv(fh, index=False, na_rep=missing,
+                                             lineterminator="\r\n"))
+
+
+def write_parquet(path: str, table: pd.DataFrame) -> None:
+    """Parquet (pyarrow), atomically; an object column that mixes types (settings
+    that differ in type between configurations) is stored as text."""
+    out = table.copy()
+    for k in out.columns:
+        if out[k].dtype == object and len({type(v) for v in out[k] if v is not None}) > 1:
+            out[k] = [None if v is None else str(v) for v in out[k]]
+    write_file(path, lambda fh: out.to_parquet(fh, engine="pyarrow", index=False), binary=True)
+
+
+def write_jsonl(path: str, table: pd.DataFrame) -> None:
+    """One strict JSON object per row (missing and non-finite values as null), atomically."""
     def write(fh):
-        w = csv.writer(fh)
-        w.writerow(names)
-        cols = [table[k].tolist() for k in names]
-        for row in zip(*cols):
-            w.writerow(["" if v is None else v for v in row])
+        for row in records(table):
+            fh.write(json.dumps(json_safe(row), allow_nan=False) + "\n")
 
     write_file(path, write)
 
 
-def write_jsonl(path: str, table: Table) -> None:
-    names = list(table)
+def markdown(table: pd.DataFrame) -> str:
+    """A Markdown table (``DataFrame.to_markdown``), cells unpadded and as given."""
+    return table.to_markdown(index=False, stralign=None, numalign=None,
+                             disable_numparse=True)
 
-    def write(fh):
-        cols = [table[k].tolist() for k in names]
-        for row in zip(*cols):
-            fh.write(json.dumps(json_safe(dict(zip(names, map(_py, row)))),
-                                allow_nan=False) + "\n")
-
-    write_file(path, write)
-
-
-def read_csv(path: str) -> list[dict[str, str]]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
