@@ -161,9 +161,9 @@ def main(argv=None) -> int:
 
 
 def _figure(rows, args, path):
-    from hga_jax.study.figures import plt, save
+    from hga_jax.study.figures import save, subplots
 
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = subplots(figsize=(7, 4.5))
     for planner, colour in zip(args.planners, ("tab:blue", "tab:green")):
         for budget in args.budgets:
             rs = [r for r in rows if r["method"] == planner and r["budget_s"] == budget

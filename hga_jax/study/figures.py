@@ -1,42 +1,53 @@
 """PNG figures of a study: hit rates with intervals, ECDFs of gaps and of evaluations
-(and seconds) to target, and convergence curves."""
+(and seconds) to target, and convergence curves.
+
+Figures are ``matplotlib.figure.Figure`` objects (no pyplot), so drawing and
+saving them needs no display and leaves matplotlib's backend as the caller chose
+it (the ``hga-jax`` command picks Agg; a notebook keeps its own).
+"""
 from __future__ import annotations
 
 import os
 from typing import Any
 
 import matplotlib
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from hga_jax.host.plots import save_figure  # noqa: E402
-from . import stats  # noqa: E402
-from .store import TARGETS  # noqa: E402
-from .summary import target_column  # noqa: E402
-from .table import Table  # noqa: E402
+from hga_jax.host.plots import save_figure
+from . import stats
+from .store import TARGETS
+from .summary import target_column
+from .table import numeric
 
 GAP_FLOOR = 1e-6  # gaps are drawn on a log axis; a hit sits at this floor
 
 
-def save(fig, path: str) -> str:
-    """Write a PNG atomically (:func:`~hga_jax.host.plots.save_figure`) and close the figure."""
+def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | None = None,
+             **kwargs: Any) -> tuple[Figure, Any]:
+    """``(figure, axes)`` like ``pyplot.subplots`` (``figsize`` in inches), on a
+    ``Figure`` that no backend or pyplot state holds."""
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(nrows, ncols, **kwargs)
+
+
+def save(fig: Figure, path: str) -> str:
+    """Write a PNG atomically (:func:`~hga_jax.host.plots.save_figure`); return ``path``."""
     save_figure(fig, path)
-    plt.close(fig)
     return path
 
 
 def _colours(n: int):
-    cmap = plt.get_cmap("tab10" if n <= 10 else "tab20")
+    cmap = matplotlib.colormaps["tab10" if n <= 10 else "tab20"]
     return [cmap(i % cmap.N) for i in range(n)]
 
 
 def hit_rates(rows: list[dict[str, Any]], path: str) -> str:
     groups = list(dict.fromkeys(r["group"] for r in rows))
     configs = list(dict.fromkeys(r["config"] for r in rows))
-    fig, axes = plt.subplots(1, len(groups), figsize=(4 + 3 * len(groups), 1 + 0.35 * len(configs)),
-                             sharey=True, squeeze=False)
+    fig, axes = subplots(1, len(groups), figsize=(4 + 3 * len(groups), 1 + 0.35 * len(configs)),
+                         sharey=True, squeeze=False)
     for ax, group in zip(axes[0], groups):
         rs = {r["config"]: r for r in rows if r["group"] == group}
         y = np.arange(len(configs))
@@ -53,14 +64,15 @@ def hit_rates(rows: list[dict[str, Any]], path: str) -> str:
     return save(fig, path)
 
 
-def gap_ecdf(table: Table, configs: list[str], path: str) -> str:
-    groups = list(dict.fromkeys(table["family"].tolist()))
-    fig, axes = plt.subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
-    gap = np.maximum(table.numeric("gap"), GAP_FLOOR)
+def gap_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
+    family, config = table["family"].to_numpy(), table["config"].to_numpy()
+    groups = list(dict.fromkeys(family.tolist()))
+    fig, axes = subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
+    gap = np.maximum(numeric(table, "gap"), GAP_FLOOR)
     grid = np.logspace(-6, 0, 300)
     for ax, group in zip(axes[0], groups):
         for c, col in zip(configs, _colours(len(configs))):
-            m = (table["family"] == group) & (table["config"] == c)
+            m = (family == group) & (config == c)
             if m.any():
                 ax.step(grid, stats.ecdf(gap[m], grid), where="post", color=col, label=c, lw=1.2)
         _label(ax, "gap to the exact optimum (hits drawn at 1e-6)",
@@ -81,19 +93,21 @@ def _label(ax, xlabel: str, ylabel: str, title: str, xlog=False, ylog=False) -> 
     ax.grid(alpha=0.3)
 
 
-def evaluations_ecdf(table: Table, configs: list[str], path: str, seconds: bool = False) -> str:
+def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str,
+                     seconds: bool = False) -> str:
     """ECDF of evaluations (or, with ``seconds``, of search time: evaluations times the
     configuration's mean seconds per evaluation) to each target gap."""
-    fig, axes = plt.subplots(1, len(TARGETS), figsize=(4.5 * len(TARGETS), 4), sharey=True)
-    evals, secs = table.numeric("evaluations"), table.numeric("time_s")
+    fig, axes = subplots(1, len(TARGETS), figsize=(4.5 * len(TARGETS), 4), sharey=True)
+    evals, secs = numeric(table, "evaluations"), numeric(table, "time_s")
+    config = table["config"].to_numpy()
     scale = {c: float(secs[m].sum() / evals[m].sum()) if seconds else 1.0
-             for c in configs if (m := table["config"] == c).any()}
-    top = max(float(evals[table["config"] == c].max()) * k for c, k in scale.items())
+             for c in configs if (m := config == c).any()}
+    top = max(float(evals[config == c].max()) * k for c, k in scale.items())
     grid = np.linspace(0, top, 400)
     for ax, t in zip(axes, TARGETS):
-        e = table.numeric(target_column(t))
+        e = numeric(table, target_column(t))
         for c, col in zip(configs, _colours(len(configs))):
-            m = table["config"] == c
+            m = config == c
             if m.any():
                 ax.step(grid, stats.ecdf(e[m] * scale[c], grid), where="post", color=col,
                         label=c, lw=1.2)
@@ -108,7 +122,7 @@ def evaluations_ecdf(table: Table, configs: list[str], path: str, seconds: bool 
 
 def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
     groups = list(dict.fromkeys(d["family"] for d in docs))
-    fig, axes = plt.subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
+    fig, axes = subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
     for ax, group in zip(axes[0], groups):
         for c, col in zip(configs, _colours(len(configs))):
             ds = [d for d in docs if d["family"] == group and d["config"] == c]
@@ -124,7 +138,7 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
     return save(fig, path)
 
 
-def all_figures(table: Table, docs: list[dict[str, Any]], rows: list[dict[str, Any]],
+def all_figures(table: pd.DataFrame, docs: list[dict[str, Any]], rows: list[dict[str, Any]],
                 configs: list[str], folder: str) -> list[str]:
     os.makedirs(folder, exist_ok=True)
     j = lambda name: os.path.join(folder, name)  # noqa: E731
@@ -132,5 +146,4 @@ def all_figures(table: Table, docs: list[dict[str, Any]], rows: list[dict[str, A
            evaluations_ecdf(table, configs, j("evaluations_ecdf.png")),
            evaluations_ecdf(table, configs, j("time_ecdf.png"), seconds=True),
            convergence(docs, configs, j("convergence.png"))]
-    plt.close("all")
     return out
