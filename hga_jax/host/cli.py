@@ -416,7 +416,17 @@ COMMANDS: dict[str, Callable[[Any], int]] = {
     "study": study_cli.run}
 
 
+def _use_file_backend() -> None:
+    """The command draws to files only: matplotlib's Agg backend, chosen here and
+    nowhere in the library (its figures are ``Figure`` objects that need none), so
+    importing ``hga_jax`` in a notebook leaves that notebook's backend alone."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    _use_file_backend()
     args = _parser().parse_args(argv)
     try:
         return COMMANDS[args.command](args)
