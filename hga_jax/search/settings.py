@@ -205,20 +205,5 @@ def preset(name: str, source: str = "<preset>") -> GASettings:
     return PRESETS[name]
 
 
-_VIEWS = {"SELECTIONS": "selection", "PERM_CROSSOVERS": "perm_crossover",
-          "PERM_MUTATIONS": "perm_mutation", "LABEL_CROSSOVERS": "label_crossover",
-          "LABEL_MUTATIONS": "label_mutation", "PATH_MUTATIONS": "path_mutation"}
-
-
-def __getattr__(name: str):
-    """``SELECTIONS``, ``PERM_CROSSOVERS``, ...: the registry's names of that kind now
-    (:func:`hga_jax.search.registry.names`), kept for older imports."""
-    if name in _VIEWS:
-        from hga_jax.search import registry
-
-        return registry.names(_VIEWS[name])
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
 def _dotted(prefix: str, key: str) -> str:
     return f"{prefix}.{key}" if prefix else key
