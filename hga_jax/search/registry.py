@@ -30,8 +30,14 @@ The random stream: generation ``g`` of a run draws one block of uint32 words
 built-in selections and label mutation read words directly (``from_words``, their
 rows given by ``rows(n, settings)``), so the stream of every built-in setting is
 the one it always was. Every other operator gets its keys from two rows of words
-(one key per pair or individual; selection one key per run), so a registered
-operator adds two rows to the block and changes no other operator's words.
+(one key per pair or individual; selection one key per run, from the rows' first
+column). Crossovers, permutation mutations and path moves, built in or registered,
+all read one do-word row and two key rows, so a registered one in their place reads
+the very words the built-in would (with ``pc_upper = 0`` it is the built-in's run).
+A registered selection or label mutation reads two key rows in place of the
+built-in's own (1 or ``tournament_size``; ``n + 2``): the block's size, and with it
+every word of the block (threefry's original layout), may change. Settings that name
+no registered operator draw exactly the words they always did.
 
 Registered names are identifiers, fixed while in use: compiled programs are cached
 by settings, so a name must keep meaning the same function (:func:`unregister`
