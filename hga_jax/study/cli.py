@@ -47,24 +47,3 @@ def run(args: argparse.Namespace) -> int:
     print(open(md).read() if outcome.docs else "")
     return 0
 
-
-def script(path: str, argv=None, doc: str = "") -> int:
-    """``main`` of a study script ``experiments/<name>.py`` (its ``__file__`` is
-    ``path``): the study file ``configs/studies/<name>.toml`` with the options of
-    ``hga-jax study``; errors end like ``hga-jax`` (one line, exit 2)."""
-    import os
-    import sys
-
-    from hga_jax.errors import ConfigError
-
-    name = os.path.splitext(os.path.basename(path))[0]
-    p = argparse.ArgumentParser(prog=f"{name}.py", description=doc.strip().splitlines()[0])
-    _options(p)
-    args = p.parse_args(argv)
-    root = os.path.dirname(os.path.dirname(os.path.abspath(path)))
-    args.config = os.path.join(root, "configs", "studies", name + ".toml")
-    try:
-        return run(args)
-    except ConfigError as e:
-        print(f"{p.prog}: error: {e}", file=sys.stderr)
-        return 2
