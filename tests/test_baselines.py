@@ -52,22 +52,26 @@ def _agreement(sc, rng, count):
     return checked, worst, wrong, feasible
 
 
-def test_python_decoder_gives_hga_jax_lengths_and_violations():
+@pytest.mark.parametrize("group", ["scenes", pytest.param("families", marks=pytest.mark.slow)])
+def test_python_decoder_gives_hga_jax_lengths_and_violations(group):
     """The DEAP baseline's own decoder (plain floats and math) against hga-jax's float64
-    decoder: bundled scenarios, generated RoboCup-like scenes and the degenerate
-    families of the decoder tests (touching circles, goal on a start circle, ...)."""
-    rng = np.random.default_rng(9)
-    cases = [(load_scenario(p), 100) for p in sorted(glob.glob("configs/scenarios/*.toml"))]
-    cases += [(scenario_from_dict(generate(kind, n, 21, 0, f"{kind}{n}", 1.4)), 40)
-              for kind, n in (("clutter", 25), ("obstructed", 9))]
-    cases += [(scenario_from_dict(d), 25) for family in FAMILIES for d in scenes(family, 5, 5)]
+    decoder: bundled scenarios and generated RoboCup-like scenes; under ``slow`` also the
+    degenerate families of the decoder tests (touching circles, goal on a start circle, ...)."""
+    if group == "scenes":
+        rng = np.random.default_rng(9)
+        cases = [(load_scenario(p), 100) for p in sorted(glob.glob("configs/scenarios/*.toml"))]
+        cases += [(scenario_from_dict(generate(kind, n, 21, 0, f"{kind}{n}", 1.4)), 40)
+                  for kind, n in (("clutter", 25), ("obstructed", 9))]
+    else:
+        rng = np.random.default_rng(10)
+        cases = [(scenario_from_dict(d), 25) for family in FAMILIES for d in scenes(family, 5, 5)]
     total, worst, wrong, feasible = 0, 0.0, [], 0
     for sc, count in cases:
         c, w, bad, f = _agreement(sc, rng, count)
         total, worst, feasible = total + c, max(worst, w), feasible + f
         wrong += bad
     assert wrong == [], wrong[:5]
-    assert total > 5000 and worst < 1e-9
+    assert total > 2500 and worst < 1e-9
     assert 0.05 * total < feasible < 0.95 * total  # both kinds of path are compared
 
 
