@@ -12,7 +12,7 @@ import pytest
 
 from hga_jax.errors import ConfigError
 from hga_jax.host.config import load_scenario
-from hga_jax.search import ga, registry
+from hga_jax.search import ga, registry, variation
 from hga_jax.search.settings import GASettings
 
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
@@ -146,9 +146,9 @@ def _population(P=10, n=N, seed=0):
 
 
 def _vary(settings, old, seed=0):
-    words = jax.random.bits(jax.random.key(seed), (ga.draw_rows(old.perm.shape[1], settings),
+    words = jax.random.bits(jax.random.key(seed), (variation.draw_rows(old.perm.shape[1], settings),
                                                    old.perm.shape[0]), dtype=jnp.uint32)
-    return (np.asarray(x) for x in ga._vary(words, old, settings))
+    return (np.asarray(x) for x in variation._vary(words, old, settings))
 
 
 def test_user_crossover_selection_and_label_mutation_in_one_generation():
@@ -179,11 +179,11 @@ def test_user_crossover_selection_and_label_mutation_in_one_generation():
         np.testing.assert_array_equal(perm0, old.perm)
         np.testing.assert_array_equal(labels0, old.labels)
         # A user selection and label mutation take two rows of keys each.
-        at = ga._layout(N, s)
+        at = variation._layout(N, s)
         assert at["select"][1] == 2 and at["mutate_lower"][1] == 2
-    paper = ga._layout(N, GASettings())
+    paper = variation._layout(N, GASettings())
     assert paper["select"] == (0, 1) and paper["mutate_lower"] == (10, N + 2)
-    assert ga._layout(N, GASettings(selection="tournament", tournament_size=3))["select"] == (0, 3)
+    assert variation._layout(N, GASettings(selection="tournament", tournament_size=3))["select"] == (0, 3)
 
 
 def test_user_selection_option_is_passed():

@@ -1,0 +1,175 @@
+"""Variation of a generation: its one draw of words, the parents' selection and
+the operators of both modules and of the path, and the fresh chromosomes of
+generation 0 and of restarts.
+
+Operators come from :mod:`hga_jax.search.registry` (a built-in may read its rows
+of words directly; a registered one takes keys made from two rows each).
+Chromosomes: ``perm`` (P, n) int32 permutations of the obstacle indices,
+``labels`` (P, n + 2) int32 in {-1, 0, +1} (+1 clockwise), in the population's
+label binding (:func:`positional` gives the decoder's order).
+"""
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+
+from hga_jax.model.scenario import ScenarioArrays
+
+from . import label_ops, path_ops, permutation, registry, rng
+from .settings import GASettings
+from .state import Population
+
+
+def positional(perm, labels, settings: GASettings):
+    """Labels in the decoder's (positional) order. With ``label_binding = "obstacle"``
+    the population stores label ``1 + i`` for obstacle ``i``; positions take
+    ``labels[1 + perm[k]]``."""
+    if settings.label_binding == "position" or perm.shape[-1] == 0:
+        return labels
+    middle = jnp.take_along_axis(labels[..., 1:-1], perm, axis=-1)
+    return jnp.concatenate([labels[..., :1], middle, labels[..., -1:]], axis=-1)
+
+
+def bound(perm, labels, settings: GASettings):
+    """Inverse of :func:`positional`: positional labels in the population's binding."""
+    if settings.label_binding == "position" or perm.shape[-1] == 0:
+        return labels
+    middle = jnp.zeros_like(labels[..., 1:-1])
+    middle = jax.vmap(lambda m, p, l: m.at[p].set(l))(
+        middle.reshape(-1, middle.shape[-1]), perm.reshape(-1, perm.shape[-1]),
+        labels[..., 1:-1].reshape(-1, middle.shape[-1])).reshape(middle.shape)
+    return jnp.concatenate([labels[..., :1], middle, labels[..., -1:]], axis=-1)
+
+
+def _legs(sa: ScenarioArrays):
+    if sa.legs is None:
+        raise ValueError("these settings use path moves or seeding: pass scenario arrays "
+                         "from Scenario.search_arrays(..., with_legs=True)")
+    return sa.legs
+
+
+
+# --- One draw of random words per generation ----------------------------------------
+#
+# Generation g of a run draws ``bits(key_g, (draw_rows(n, settings), P))`` once (P the
+# population, innermost) and every part of the generation reads its own rows:
+# generation 0 the words of its permutations (n rows) and labels (n + 2 rows); a later
+# generation its selection's words (built-ins: 1 row, or ``tournament_size``), then a
+# do-word and two key words per pair (crossovers) or individual (mutations), then the
+# label mutation's words (the built-in redraw: one word per label gene). Pair rows use
+# their first P // 2 columns. Operators without a word-reading form (registry.Operator)
+# take keys, made from two words each (selection: one key per run, from column 0).
+
+def _word_rows(kind: str, n: int, settings: GASettings) -> int:
+    """Rows of words the operator of ``kind`` chosen by ``settings`` reads: a built-in's
+    own count (registry ``rows``), else the two of its keys."""
+    op = registry.entry(kind, getattr(settings, kind))
+    return op.rows(n, settings) if op.from_words is not None else 2
+
+
+def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
+    """``name -> (first row, rows)`` of a later generation's draw."""
+    parts = (("select", _word_rows("selection", n, settings)),
+             ("cross_upper", 3), ("mutate_upper", 3), ("cross_lower", 3),
+             ("mutate_lower", _word_rows("label_mutation", n, settings)))
+    if settings.path_mutation != "none":
+        parts += (("mutate_path", 3),)
+    out, row = {}, 0
+    for name, rows in parts:
+        out[name], row = (row, rows), row + rows
+    return out
+
+
+def draw_rows(n: int, settings: GASettings) -> int:
+    """Rows of words (of P each) every generation draws: enough for generation 0
+    (``2n + 2``, and 2 more with seeding) and for the later ones."""
+    last = max(start + rows for start, rows in _layout(n, settings).values())
+    return max(2 * n + 2 + (2 if settings.seeding > 0 else 0), last)
+
+
+def _draw(key, n: int, settings: GASettings):
+    return jax.random.bits(key, (draw_rows(n, settings), settings.population), dtype=jnp.uint32)
+
+
+unit = rng.unit  # floats uniform on k / 2**24 from words (the one rule, in rng)
+
+
+def _keys(rows):
+    """Keys (of :mod:`hga_jax.search.rng`) from two rows of words: ``(count,)`` keys."""
+    return jax.random.wrap_key_data(jnp.stack([rows[0], rows[1]], axis=-1), impl=rng.IMPL)
+
+
+def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays | None = None):
+    """Generation 0's chromosomes from its words: random permutations and labels; with
+    ``seeding``, the first ``round(seeding * P)`` are then built by
+    :func:`hga_jax.search.path_ops.wrap_blockers` from their start and goal labels (keys
+    from rows ``2n + 2`` and ``2n + 3``)."""
+    perm = permutation.permutation_from_words(words[:n].T)
+    labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
+    if settings is None or settings.seeding <= 0 or n == 0:
+        return perm, labels
+    seeded = int(round(settings.seeding * perm.shape[0]))
+    legs = _legs(sa)
+    keys = _keys(words[2 * n + 2:2 * n + 4, :seeded])
+    pos = positional(perm[:seeded], labels[:seeded], settings)
+    sp, sl = jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs))(keys, perm[:seeded],
+                                                                           pos)
+    sl = bound(sp, sl, settings)
+    return perm.at[:seeded].set(sp), labels.at[:seeded].set(sl)
+
+
+def _pairwise(rows, op, prob, a, b):
+    """Apply the pair operator ``op`` to each pair (a[i], b[i]) with probability ``prob``;
+    ``rows`` (3, >= pairs): the do-word and the two key words of each pair."""
+    m = a.shape[0]
+    ca, cb = jax.vmap(op)(_keys(rows[1:, :m]), a, b)
+    do = (unit(rows[0, :m]) < prob)[:, None]
+    return jnp.where(do, ca, a), jnp.where(do, cb, b)
+
+
+def _crossover(rows, op, prob, x):
+    """Pair consecutive rows (0,1), (2,3), ...; an odd last row passes unchanged."""
+    half = x.shape[0] // 2
+    a, b = _pairwise(rows, op, prob, x[0:2 * half:2], x[1:2 * half:2])
+    paired = jnp.stack([a, b], axis=1).reshape((2 * half,) + x.shape[1:])
+    return jnp.concatenate([paired, x[2 * half:]])
+
+
+def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | None = None):
+    """Select parents from ``old`` and vary both modules: the children's chromosomes,
+    from the generation's words (see the layout above)."""
+    n = old.perm.shape[1]
+    at = _layout(n, settings)
+
+    def rows(name):
+        start, count = at[name]
+        return words[start:start + count]
+
+    sel = registry.entry("selection", settings.selection)
+    if sel.from_words is not None:
+        idx = sel.from_words(rows("select").T, old.fitness)
+    else:
+        idx = sel.fn(_keys(rows("select")[:, :1])[0], old.fitness, **sel.options(settings))
+    perm, labels = old.perm[idx], old.labels[idx]
+    if n >= 2:
+        perm = _crossover(rows("cross_upper"), registry.get("perm_crossover", settings.perm_crossover),
+                          settings.pc_upper, perm)
+        m = rows("mutate_upper")
+        mutated = jax.vmap(registry.get("perm_mutation", settings.perm_mutation))(_keys(m[1:]), perm)
+        perm = jnp.where((unit(m[0]) < settings.pm_upper)[:, None], mutated, perm)
+    labels = _crossover(rows("cross_lower"), registry.get("label_crossover", settings.label_crossover),
+                        settings.pc_lower, labels)
+    mut = registry.entry("label_mutation", settings.label_mutation)
+    if mut.from_words is not None:
+        labels = mut.from_words(rows("mutate_lower").T, labels, settings.pm_lower)
+    else:
+        labels = jax.vmap(lambda k, l: mut.fn(k, l, settings.pm_lower))(
+            _keys(rows("mutate_lower")), labels)
+    if settings.path_mutation != "none" and n >= 1:
+        m, legs = rows("mutate_path"), _legs(sa)
+        move = registry.get("path_mutation", settings.path_mutation)
+        pos = positional(perm, labels, settings)
+        mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)
+        do = (unit(m[0]) < settings.pm_path)[:, None]
+        perm, labels = jnp.where(do, mp, perm), jnp.where(do, bound(mp, ml, settings), labels)
+    return perm, labels
