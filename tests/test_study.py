@@ -184,7 +184,7 @@ def test_run_table_files_keep_values_and_missing_ones(tmp_path):
                                  "run", "population", "perm_crossover", "length", "feasible",
                                  "gap", "hit", "evaluations_hit", "optimum", "evaluations",
                                  "time_s"]
-    assert len(tab) == tab.rows == 6
+    assert len(tab) == 6
     assert table.numeric(tab, "gap").tolist() == [0.0, 0.1, math.inf, 0.25, 0.0, 0.0]
     assert table.numeric(tab, "evaluations_hit").tolist() == [30, math.inf, math.inf, math.inf,
                                                               30, 30]

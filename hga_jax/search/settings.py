@@ -192,7 +192,7 @@ RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
 paper's operators and rates, plus generation 0 and restarts seeded by wrapping
 blocking obstacles, one direction flip per child, tournament selection, 2 elites
 and restarts of runs stalled for 8 generations (``configs/ga/recommended.toml``;
-measured in the README, "Beyond the paper")."""
+measured in docs/results.md)."""
 
 PRESETS: dict[str, GASettings] = {"recommended": RECOMMENDED, "paper": PAPER}
 """Named settings: ``hga-jax run --preset NAME`` (default ``recommended``)."""

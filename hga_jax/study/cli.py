@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
                         progress=False if args.quiet else None)
     print(f"study {outcome.study.name}: {len(outcome.docs)} cells "
           f"({outcome.cells_run} run now, {outcome.cells_reused} already done), "
-          f"{outcome.table.rows} runs; results in {outcome.folder}")
+          f"{len(outcome.table)} runs; results in {outcome.folder}")
     md = f"{outcome.folder}/summary.md"
     print(open(md).read() if outcome.docs else "")
     return 0

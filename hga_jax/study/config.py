@@ -29,7 +29,6 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from hga_jax.errors import ConfigError
 from hga_jax.host import validation
 from hga_jax.search.settings import GASettings
 

@@ -36,7 +36,7 @@ class Outcome:
 
     folder: str
     study: Study
-    table: table.RunTable  # a DataFrame, one row per run
+    table: Any  # a pandas DataFrame, one row per run
     summary: list[dict[str, Any]]
     docs: list[dict[str, Any]]
     cells_run: int

@@ -29,15 +29,6 @@ from hga_jax.host.results import json_safe
 ID_COLUMNS = ("study", "config", "family", "scenario", "obstacles", "seed")
 
 
-class RunTable(pd.DataFrame):
-    """The table of runs: a DataFrame; ``rows`` is ``len(table)`` (kept for callers
-    written against the earlier table type)."""
-
-    @property
-    def rows(self) -> int:
-        return len(self)
-
-
 def _column(values: list) -> Any:
     """A column's values: numpy's own array when none is missing (as ``np.asarray``
     types it), else the pandas dtype that keeps the others' values exactly."""
@@ -56,7 +47,7 @@ def _column(values: list) -> Any:
     return arr
 
 
-def build(study: str, docs: Iterable[dict[str, Any]]) -> RunTable:
+def build(study: str, docs: Iterable[dict[str, Any]]) -> pd.DataFrame:
     """One row per run of every cell document, in plan order."""
     parts: dict[str, list] = {}
     settings_keys: list[str] = []
@@ -77,7 +68,7 @@ def build(study: str, docs: Iterable[dict[str, Any]]) -> RunTable:
             parts.setdefault(k, []).extend(v)
     order = list(ID_COLUMNS) + ["run"] + settings_keys + [
         k for k in parts if k not in ID_COLUMNS and k != "run" and k not in settings_keys]
-    return RunTable({k: _column(parts[k]) for k in order if k in parts})
+    return pd.DataFrame({k: _column(parts[k]) for k in order if k in parts})
 
 
 def numeric(table: pd.DataFrame, name: str) -> np.ndarray:
