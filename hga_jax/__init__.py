@@ -22,7 +22,7 @@ from hga_jax.model.exact import solve
 from hga_jax.model.path import Path, evaluate_path, from_chromosome
 from hga_jax.host.plots import plot_convergence, plot_path, save_figure
 from hga_jax.host.report import run_summary, write_run
-from hga_jax.host.results import RunsResult
+from hga_jax.running.results import RunsResult
 from hga_jax.running.runner import enable_compilation_cache, run_many, settings_for
 from hga_jax.model.scenario import Field, Scenario
 from hga_jax.search.settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset

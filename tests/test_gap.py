@@ -4,7 +4,7 @@ import pytest
 
 from hga_jax.host.config import load_scenario
 from hga_jax.model.exact import solve
-from hga_jax.host.results import HIT_GAP
+from hga_jax.running.results import HIT_GAP
 from hga_jax.running.runner import run_many
 
 

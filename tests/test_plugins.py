@@ -46,7 +46,7 @@ def _runs(doc) -> list[tuple]:
 
 
 def test_example_operators_follow_their_definitions(plugins):
-    from hga_jax.host import validation
+    from hga_jax import validation
 
     validation.load_plugin(str(EXAMPLE))
     cross = registry.get("perm_crossover", "one_point_order")

@@ -4,7 +4,7 @@ settings over scenes; :mod:`hga_jax.study.cli`).
 
 Settings are layered: the preset's, the scenario's ``[ga]`` table, a ``--ga``
 TOML file (top-level keys are settings), then command-line flags; an error names
-the source of each value it involves (:mod:`hga_jax.host.validation`). Operators
+the source of each value it involves (:mod:`hga_jax.validation`). Operators
 are named from :mod:`hga_jax.search.registry`: ``--plugin FILE.py`` (or a module
 name; repeatable) and a ``--ga`` file's ``plugins = [...]`` (paths relative to
 that file) are imported first, so operators they register can be named too, and
@@ -42,7 +42,7 @@ from hga_jax.search import registry
 from hga_jax.search.settings import COLLISIONS, PAPER, PRECISIONS, PRESETS, RECOMMENDED, GASettings
 from hga_jax.study import cli as study_cli
 
-from . import validation
+from hga_jax import validation
 from .config import load_scenario
 
 DEFAULT_SCENARIO = os.path.join("configs", "scenarios", "robocup_paper.toml")
@@ -349,7 +349,7 @@ def _cmd_exact(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from .report import count
+    from hga_jax.running.progress import count
 
     plugins = _plugins(args)
     bad = 0

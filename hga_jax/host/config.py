@@ -21,7 +21,6 @@ reads them (summaries, plots, the chromosome's upper module, result files), so
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 import tomllib
 from pathlib import Path
@@ -29,8 +28,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from hga_jax.model.scenario import Field, Scenario
-from hga_jax.host import validation
+from hga_jax.model.scenario import Field, Scenario, scenario_to_dict  # noqa: F401 (the loader's inverse)
+from hga_jax import validation
 
 TOL = 1e-9  # metres: a point counts as inside a circle only by more than this
 
@@ -172,26 +171,6 @@ def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>") -> Sc
     _check_pose(s, "start", start)
     _check_pose(s, "goal", goal)
     return s
-
-
-def scenario_to_dict(s: Scenario) -> dict[str, Any]:
-    """The mapping of a scenario file (metres and degrees) that gives ``s`` back
-    through :func:`scenario_from_dict` (headings to within rounding)."""
-    def pose(p: tuple[float, float, float]) -> dict[str, float]:
-        return {"x": float(p[0]), "y": float(p[1]), "heading_deg": math.degrees(p[2])}
-
-    out: dict[str, Any] = {
-        "name": s.name,
-        "robot": {"radius": s.robot_radius, "min_turn_radius": s.min_turn_radius},
-        "start": pose(s.start), "goal": pose(s.goal),
-        "obstacles": [{"x": float(x), "y": float(y), "radius": float(r)}
-                      for (x, y), r in zip(s.centres, s.radii)],
-    }
-    if s.field is not None:
-        out["field"] = dataclasses.asdict(s.field)
-    if s.ga:
-        out["ga"] = dict(s.ga)
-    return out
 
 
 def load_scenario(path: str | Path) -> Scenario:

@@ -17,17 +17,13 @@ from hga_jax.errors import ConfigError
 from hga_jax.model.fitness import fitness_of, length_of_fitness
 from .output import csv_writer, figure_writer, json_writer, write_result
 from hga_jax.model.path import touch_list
-from .results import RunsResult, json_safe, optimum_dict, result_document
+from hga_jax.running.progress import count
+from hga_jax.running.results import RunsResult, json_safe, optimum_dict, result_document
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 
 PAPER_NOTE = ("collision \"paper\": segments judged by the paper's Appendix B test, which "
               "misses a segment that starts or ends inside another model circle")
-
-
-def count(k: int, noun: str, plural: str | None = None) -> str:
-    """``"1 run"``, ``"1,000 runs"``."""
-    return f"{k:,} {noun if k == 1 else plural or noun + 's'}"
 
 
 def pct(x: float | None) -> str:

@@ -156,6 +156,17 @@ def arc_obstacles(circle, own, arc, obs: Obstacles, tol, collision: str):
     return hits if arcs_meet_obstacles(collision) else hits & False
 
 
+def arc_candidates(circle, own: int, centres, model_radii, margin: float = 1e-3) -> np.ndarray:
+    """Indices of the obstacles that some arc on one ``circle`` could violate (numpy):
+    every obstacle but ``own`` whose model circle comes within ``margin`` (m) of the
+    circle, ``| |Q - C| - r | <= R_k + margin``; no arc on the circle comes closer than
+    ``R_k`` to the others. A prefilter for host code that judges many arcs per circle."""
+    cx, cy, r, _ = circle
+    d = np.hypot(centres[:, 0] - cx, centres[:, 1] - cy)
+    return np.flatnonzero((np.abs(d - r) <= model_radii + margin)
+                          & (np.arange(centres.shape[0]) != own))
+
+
 def segment_leaves_field(ends, bounds, tol):
     """P: the segment leaves the (convex) box ``bounds = (xmin, xmax, ymin, ymax)``:
     one of its ends lies outside by more than ``tol``."""

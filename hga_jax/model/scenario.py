@@ -16,6 +16,7 @@ collision)`` adds the scenario's turn table for that collision mode
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -168,3 +169,23 @@ class ScenarioArrays(NamedTuple):
     turns_full: Any = None
     turns_paper: Any = None
     legs: Any = None
+
+
+def scenario_to_dict(s: Scenario) -> dict[str, Any]:
+    """The mapping of a scenario file (metres and degrees) that gives ``s`` back
+    through :func:`hga_jax.host.config.scenario_from_dict` (headings to within rounding)."""
+    def pose(p: tuple[float, float, float]) -> dict[str, float]:
+        return {"x": float(p[0]), "y": float(p[1]), "heading_deg": math.degrees(p[2])}
+
+    out: dict[str, Any] = {
+        "name": s.name,
+        "robot": {"radius": s.robot_radius, "min_turn_radius": s.min_turn_radius},
+        "start": pose(s.start), "goal": pose(s.goal),
+        "obstacles": [{"x": float(x), "y": float(y), "radius": float(r)}
+                      for (x, y), r in zip(s.centres, s.radii)],
+    }
+    if s.field is not None:
+        out["field"] = dataclasses.asdict(s.field)
+    if s.ga:
+        out["ga"] = dict(s.ga)
+    return out

@@ -114,11 +114,11 @@ def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
         by = np.where(coincident[b], ay, dep_y[b][None, :])
         ax, ay = np.broadcast_to(ax, bx.shape), np.broadcast_to(ay, by.shape)
         swp = g.sweep(ax - cx[b], ay - cy[b], bx - cx[b], by - cy[b], sign[b], tol.angle)
-        d = np.hypot(centres[:, 0] - cx[b], centres[:, 1] - cy[b])
-        near = np.flatnonzero(np.abs(d - r[b]) <= model_radii + _REACH_MARGIN)
+        circle = (cx[b], cy[b], r[b], sign[b])
+        near = col.arc_candidates(circle, obstacle[b], centres, model_radii, _REACH_MARGIN)
         obs = col.obstacles(centres[near], model_radii[near], ndim=2, index=near)
-        vio = col.arc_violations((cx[b], cy[b], r[b], sign[b]), obstacle[b], (ax, ay, bx, by, swp),
-                                 obs, bounds, tol.length, collision).astype(f8)
+        vio = col.arc_violations(circle, obstacle[b], (ax, ay, bx, by, swp), obs, bounds,
+                                 tol.length, collision).astype(f8)
         out[:, b, :, 0] = r[b] * swp + t_len[b][None, :]
         out[:, b, :, 1] = vio + t_vio[b][None, :]
     return TurnTable(entries=out.reshape(-1, 2), usable=usable(tb))

@@ -28,9 +28,9 @@ from hga_jax.model.exact import solve
 from hga_jax.model.fitness import fitness_of
 from hga_jax.search import ga
 from hga_jax.search.ga import Record, host_generation_keys
-from hga_jax.host.report import count
+from hga_jax.running.progress import bar as bar_of, count, tick
 from hga_jax.model.path import decode64, evaluate_path
-from hga_jax.host.results import RunsResult
+from hga_jax.running.results import RunsResult
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 from hga_jax.search.settings import preset as presets
@@ -126,7 +126,7 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
-    from hga_jax.host import validation
+    from hga_jax import validation
 
     validation.run_range(seed, runs, first_run, chunk, "run_many")
     procs, me = jax.process_count(), jax.process_index()
@@ -203,7 +203,7 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
     b = done = 0  # batch, generations done in it (for the interrupt message)
     compiling = True
     try:
-        bar = _progress(cut.batches * (gens + 1), progress,
+        bar = bar_of(cut.batches * (gens + 1), progress,
                         f"generations of {count(runs, 'run')}" if cut.batches == 1 else
                         f"generations of {cut.batches} batches of {count(size, 'run')}")
         with jax.enable_x64(dtype == np.float64):
@@ -229,7 +229,7 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                     steps = min(cut.block, gens + 1 - first)
                     _store(hist, recs, first, steps, lo, real)
                     done += steps
-                    _tick(bar, steps)
+                    tick(bar, steps)
                 bests.append(jax.tree.map(lambda a: np.asarray(a)[:real], state.best))
                 search_s += time.perf_counter() - t0
     except KeyboardInterrupt:
@@ -308,17 +308,3 @@ def _store(hist: dict[str, np.ndarray], rec: Any, first: int, steps: int, lo: in
     for name, value in rec._asdict().items():
         v = np.asarray(value)[:real]
         hist[name][first:first + steps, lo:lo + real] = v.reshape(real, -1)[:, :steps].T
-
-
-def _tick(bar: Any, k: int) -> None:
-    if bar is not None:
-        bar.update(k)
-
-
-def _progress(total: int, enabled: bool, what: str) -> Any:
-    """A bar on stderr counting generations (``what`` says of what)."""
-    if not enabled:
-        return None
-    from tqdm.auto import tqdm
-
-    return tqdm(total=total, unit="gen", desc=what, leave=False, file=sys.stderr)

@@ -1,7 +1,7 @@
 """The ``hga-jax study`` subcommand (kept apart from the other commands).
 
 The study file names its own plugins (``plugins = [...]``, :mod:`hga_jax.study.config`);
-options are checked by :mod:`hga_jax.host.validation` like the other commands'."""
+options are checked by :mod:`hga_jax.validation` like the other commands'."""
 from __future__ import annotations
 
 import argparse
@@ -35,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
 
         enable_compilation_cache()
     if args.scenes is not None:
-        from hga_jax.host import validation
+        from hga_jax import validation
 
         validation.at_least(args.scenes, "command line", "--scenes", 1)
     outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,

@@ -29,7 +29,7 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from hga_jax.host import validation
+from hga_jax import validation
 from hga_jax.search.settings import GASettings
 
 TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses", "ga",

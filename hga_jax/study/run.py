@@ -22,7 +22,7 @@ from hga_jax.model.path import decode64
 import pandas as pd
 
 from hga_jax.host.output import write_file, write_json
-from hga_jax.host.results import json_safe
+from hga_jax.running.results import json_safe
 from hga_jax.running.runner import run_many
 from . import figures, summary, table
 from .config import Config, Study, load_study

@@ -21,7 +21,7 @@ import numpy as np
 from hga_jax import __version__
 from hga_jax.model.fitness import length_of_fitness
 from hga_jax.host.output import write_json
-from hga_jax.host.results import NEAR_GAP, RunsResult, json_safe
+from hga_jax.running.results import NEAR_GAP, RunsResult, json_safe
 from .config import Config
 from .scenes import Scene
 

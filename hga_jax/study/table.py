@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from hga_jax.host.output import write_file
-from hga_jax.host.results import json_safe
+from hga_jax.running.results import json_safe
 
 ID_COLUMNS = ("study", "config", "family", "scenario", "obstacles", "seed")
 

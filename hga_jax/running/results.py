@@ -192,7 +192,7 @@ def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
 
     from hga_jax import __version__
 
-    from .config import scenario_to_dict
+    from hga_jax.model.scenario import scenario_to_dict
 
     return json_safe({
         "scenario_name": scenario.name,
