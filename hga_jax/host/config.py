@@ -138,13 +138,10 @@ def _check_pose(s: Scenario, key: str, pose: tuple[float, float, float]) -> None
         if d < big_r - TOL:
             raise _error(s.source, key, f"point ({x:g}, {y:g}) is inside the model circle "
                          f"of obstacles[{i}] (distance {d:.6g} < R {big_r:.6g})")
-    f, r = s.field, s.robot_radius
-    if f is not None and f.keep_inside:
-        if not (f.xmin + r - TOL <= x <= f.xmax - r + TOL
-                and f.ymin + r - TOL <= y <= f.ymax - r + TOL):
-            raise _error(s.source, key, f"point ({x:g}, {y:g}) is outside the field shrunk "
-                         f"by the robot radius [{f.xmin + r:g}, {f.xmax - r:g}] x "
-                         f"[{f.ymin + r:g}, {f.ymax - r:g}]")
+    xmin, xmax, ymin, ymax = s.bounds
+    if not (xmin - TOL <= x <= xmax + TOL and ymin - TOL <= y <= ymax + TOL):
+        raise _error(s.source, key, f"point ({x:g}, {y:g}) is outside the field shrunk "
+                     f"by the robot radius [{xmin:g}, {xmax:g}] x [{ymin:g}, {ymax:g}]")
 
 
 def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>") -> Scenario:

@@ -26,6 +26,7 @@ import numpy as np
 import tomli_w
 
 from hga_jax.host.config import scenario_from_dict
+from hga_jax.model import collision
 from hga_jax.model.exact import solve
 from hga_jax.model.path import decode64
 from hga_jax.host.output import write_file
@@ -114,10 +115,9 @@ def to_toml(d: dict, comment: str = "") -> str:
 
 def _blocked(sc: Scenario) -> bool:
     """True when the straight start-goal line and all four direct Dubins paths collide."""
-    a, b = np.array(sc.start[:2]), np.array(sc.goal[:2])
-    d = b - a
-    t = np.clip((sc.centres - a) @ d / (d @ d), 0.0, 1.0)
-    line_hits = np.hypot(*(a + t[:, None] * d - sc.centres).T) < sc.model_radii
+    (ax, ay), (bx, by) = sc.start[:2], sc.goal[:2]
+    line_hits = collision.segment_hits(ax, ay, bx, by, sc.centres[:, 0], sc.centres[:, 1],
+                                       sc.model_radii, 0.0)
     if not line_hits.any():
         return False
     ends = np.array([[s, g] for s in (-1, 1) for g in (-1, 1)])
