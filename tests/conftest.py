@@ -1,13 +1,32 @@
 """Test configuration. Hypothesis runs derandomized in CI so a run is repeatable;
 locally it explores new examples each time (``HYPOTHESIS_PROFILE=deep`` for many more)."""
+import atexit
 import os
+import shutil
+import tempfile
 
 import pytest
 from hypothesis import settings
 
-# In-process command-line tests keep no compiled programs on disk (one test
-# checks the cache in subprocesses with a folder of its own).
-os.environ["HGA_JAX_CACHE_DIR"] = "off"
+# One compilation cache for the whole test session, in a temporary folder removed at
+# the end: tests that compile the same program (in this process, in pytest-xdist's
+# workers or in command-line subprocesses, which inherit HGA_JAX_CACHE_DIR) compile it
+# once. Nothing is kept between sessions, so every session still compiles each program
+# once. The tests of the cache itself give their subprocesses folders of their own.
+# HGA_JAX_TEST_CACHE=off runs the session without one.
+if "HGA_JAX_TEST_CACHE" not in os.environ:  # the first process of the session makes it
+    os.environ["HGA_JAX_TEST_CACHE"] = tempfile.mkdtemp(prefix="hga-jax-test-xla-")
+    atexit.register(shutil.rmtree, os.environ["HGA_JAX_TEST_CACHE"], ignore_errors=True)
+os.environ["HGA_JAX_CACHE_DIR"] = os.environ["HGA_JAX_TEST_CACHE"]
+
+
+def pytest_configure(config):
+    if os.environ["HGA_JAX_CACHE_DIR"] != "off":
+        import jax
+
+        jax.config.update("jax_compilation_cache_dir", os.environ["HGA_JAX_CACHE_DIR"])
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)  # as the CLI
+
 
 settings.register_profile("dev", max_examples=150, deadline=None)
 settings.register_profile("ci", max_examples=150, deadline=None, derandomize=True, print_blob=True)
