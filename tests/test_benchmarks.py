@@ -1,4 +1,4 @@
-"""Benchmarks, run on demand: ``python3 -m pytest -m benchmark -s``.
+"""Benchmarks, run on demand and alone: ``python3 -m pytest -m benchmark -n 0 -s``.
 
 They print measured figures (with a calibration loop beside them). Speed depends on
 the machine of the day, so they assert that the scripts ran and that their figures
