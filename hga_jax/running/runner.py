@@ -95,8 +95,11 @@ def _sharding():
     devices = jax.local_devices()
     if len(devices) < 2:
         return None
-    mesh = jax.sharding.Mesh(np.asarray(devices), ("runs",))
-    return jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("runs"))
+    mesh = jax.sharding.Mesh(np.asarray(devices), (_DEVICES,))
+    return jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec(_DEVICES))
+
+
+_DEVICES = "devices"  # the mesh axis the runs of a batch are split over
 
 
 def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, seed: int = 0,
@@ -214,7 +217,7 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
             keys0 = _put(host_generation_keys(seed, ks_all[:size], settings), sharding)
             blank = _put_tree(_blank_batch(size, sa, settings), sharding)
             block = _compiled(("block", settings) + shapes, lambda: jax.jit(
-                functools.partial(_block, steps=cut.block)
+                _per_device(functools.partial(_block, steps=cut.block), sharding)
             ).lower(keys0, blank, np.int32(0), sa).compile())
             compile_s, search_s = time.perf_counter() - t0, 0.0
             compiling = False
@@ -280,6 +283,17 @@ def _block(keys, core, first, sa, steps: int):
         return st._replace(problem=None), recs
 
     return jax.vmap(one, axis_name=ga.RUNS)(keys, core)
+
+
+def _per_device(block, sharding):
+    """``block`` run by each device on its own share of the runs (``shard_map``), so
+    a generation needs nothing from the other devices: "some run restarts"
+    (:func:`~hga_jax.search.jax_compat.any_run`) is asked of the device's runs."""
+    if sharding is None:
+        return block
+    runs, whole = jax.sharding.PartitionSpec(_DEVICES), jax.sharding.PartitionSpec()
+    return jax.shard_map(block, mesh=sharding.mesh, in_specs=(runs, runs, whole, whole),
+                         out_specs=runs, check_vma=False)
 
 
 def _blank_batch(size: int, sa, settings: GASettings) -> Any:
