@@ -114,7 +114,10 @@ def step(key, state: GAState) -> GAState:
     settings, sa, g = state.settings, state.problem, state.generation
     words = _draw(key, sa.centres.shape[0], settings)
     restart = _restarts(state)
-    perm, labels = _vary(words, state.pop, settings, sa)  # of no use in a restart
+    pop = state.pop
+    perm, labels = jax.lax.cond(  # children, unless every run of the batch restarts
+        any_run(~restart), lambda w: _vary(w, pop, settings, sa),
+        lambda w: (pop.perm, pop.labels), words)
     perm, labels = _restarted(words, perm, labels, restart, sa, settings)
     pop = _kept(_evaluated(sa, perm, labels, settings), state.pop, restart, settings)
     best = _update_best(state.best, pop, g, settings)
