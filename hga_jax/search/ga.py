@@ -114,7 +114,7 @@ def step(key, state: GAState) -> GAState:
     settings, sa, g = state.settings, state.problem, state.generation
     words = _draw(key, sa.centres.shape[0], settings)
     restart = _restarts(state)
-    pop = state.pop
+    pop = jax.tree.map(jnp.asarray, state.pop)  # a blank state's numpy arrays too
     perm, labels = jax.lax.cond(  # children, unless every run of the batch restarts
         any_run(~restart), lambda w: _vary(w, pop, settings, sa),
         lambda w: (pop.perm, pop.labels), words)
