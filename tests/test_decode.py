@@ -4,7 +4,7 @@ import math
 import jax
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from hga_jax.model.decode import decode_batch
@@ -157,6 +157,7 @@ def _same_heading(a, b):
 
 
 
+@settings(max_examples=40)  # each example compiles its own scene size
 @given(scenes_and_chromosomes())
 def test_paths_are_finite_continuous_and_end_at_the_goal(case):
     sc, perm, labels = case

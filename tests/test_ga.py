@@ -157,6 +157,7 @@ print(json.dumps([jax.device_count(), r.length.tolist(), r.history["mean_fitness
 """
 
 
+@pytest.mark.slow  # the default lane has test_devices' 1 against 3 devices
 def test_sharding_over_two_devices_gives_the_same_runs():
     import json
     import os

@@ -23,6 +23,14 @@ def _same_runs(a, b, rows_a, rows_b):
         assert np.array_equal(a.history[h][:, rows_a], b.history[h][:, rows_b]), h
 
 
+def test_recommended_run_alone_is_its_row_of_a_batch(robocup):
+    s = RECOMMENDED.replace(generations=12, restart_after=3)
+    whole = run_many(robocup, s, seed=2, runs=12, exact=False)
+    alone = run_many(robocup, s, seed=2, runs=1, first_run=7, exact=False)
+    _same_runs(alone, whole, slice(0, 1), slice(7, 8))
+
+
+@pytest.mark.slow
 def test_recommended_runs_are_the_same_alone_in_chunks_in_blocks_and_in_one_scan(
         robocup, monkeypatch):
     import jax
