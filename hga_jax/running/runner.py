@@ -273,7 +273,9 @@ def _block(keys, core, first, sa, steps: int):
     program for every block: :func:`hga_jax.search.ga.steps` over each run's
     generation keys ``keys`` (R, G + 1), vmapped over the runs (axis ``ga.RUNS``).
     ``core`` is the batch's state without its problem (``sa`` is passed apart, not
-    carried); the steps of a last block that runs past generation G are masked off."""
+    carried) and with one generation count for all its runs (not batched, so that
+    "some run restarts" in generation 0 needs no collective between devices); the
+    steps of a last block that runs past generation G are masked off."""
     total = core.settings.generations
     idx = first + jnp.arange(steps, dtype=jnp.int32)
     live = None if (total + 1) % steps == 0 else idx <= total
@@ -282,7 +284,13 @@ def _block(keys, core, first, sa, steps: int):
         st, recs = ga.steps(ks[jnp.minimum(idx, total)], st._replace(problem=sa), live)
         return st._replace(problem=None), recs
 
-    return jax.vmap(one, axis_name=ga.RUNS)(keys, core)
+    axes = _run_axes(core)
+    return jax.vmap(one, in_axes=(0, axes), out_axes=(axes, 0), axis_name=ga.RUNS)(keys, core)
+
+
+def _run_axes(core):
+    """The run axis of each leaf of a batch's state: 0, but none for the generation count."""
+    return jax.tree.map(lambda a: None if np.ndim(a) == 0 else 0, core)
 
 
 def _per_device(block, sharding):
@@ -296,15 +304,22 @@ def _per_device(block, sharding):
     if sharding is None or jax.process_count() == 1:
         return block
     runs, whole = jax.sharding.PartitionSpec(_DEVICES), jax.sharding.PartitionSpec()
-    return jax.shard_map(block, mesh=sharding.mesh, in_specs=(runs, runs, whole, whole),
-                         out_specs=runs, check_vma=False)
+
+    def program(keys, core, first, sa):
+        specs = jax.tree.map(lambda a: whole if a is None else runs, _run_axes(core),
+                             is_leaf=lambda a: a is None)
+        return jax.shard_map(block, mesh=sharding.mesh, in_specs=(runs, specs, whole, whole),
+                             out_specs=(specs, runs), check_vma=False)(keys, core, first, sa)
+
+    return program
 
 
 def _blank_batch(size: int, sa, settings: GASettings) -> Any:
     """:func:`hga_jax.search.ga.blank` for ``size`` runs (a leading run axis), without
     its problem, as numpy arrays: no device program runs to make it."""
     one = ga.blank(sa, settings)._replace(problem=None)
-    return jax.tree.map(lambda a: np.broadcast_to(a, (size,) + np.shape(a)), one)
+    batch = jax.tree.map(lambda a: np.broadcast_to(a, (size,) + np.shape(a)), one)
+    return batch._replace(generation=one.generation)  # one count for the batch
 
 
 def _put(ks: np.ndarray, sharding: Any) -> Any:
@@ -312,7 +327,12 @@ def _put(ks: np.ndarray, sharding: Any) -> Any:
 
 
 def _put_tree(tree: Any, sharding: Any) -> Any:
-    return jax.tree.map(lambda a: _put(a, sharding), tree)
+    """``tree``'s leaves split over the devices by runs; a scalar (the generation
+    count) replicated."""
+    if not sharding:
+        return tree
+    every = jax.sharding.NamedSharding(sharding.mesh, jax.sharding.PartitionSpec())
+    return jax.tree.map(lambda a: jax.device_put(a, every if np.ndim(a) == 0 else sharding), tree)
 
 
 def _record_dtypes(dtype: Any) -> dict[str, Any]:
