@@ -22,6 +22,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from hga_jax import validation
 from hga_jax.running import budget
 from hga_jax.errors import Interrupted
 from hga_jax.model.exact import solve
@@ -129,8 +130,6 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
-    from hga_jax import validation
-
     validation.run_range(seed, runs, first_run, chunk, "run_many")
     procs, me = jax.process_count(), jax.process_index()
     if procs == 1:

@@ -65,9 +65,7 @@ def _kept(pop: Population, old: Population, restart, settings: GASettings) -> Po
 
 
 def _elitist(pop: Population, old: Population, settings: GASettings) -> Population:
-    """The ``elites`` best of ``old`` replace the worst of ``pop``."""
-    if not settings.elites:
-        return pop
+    """The ``elites`` (> 0) best of ``old`` replace the worst of ``pop``."""
     e = settings.elites
     # top_k breaks ties by the lower index, as the stable argsort it replaced did.
     elite = jax.lax.top_k(old.fitness, e)[1]
