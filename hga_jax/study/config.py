@@ -36,7 +36,7 @@ TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses"
        "families", "configs", "quick"}
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
-KINDS = ("clutter", "obstructed")
+KINDS = ("clutter", "obstructed", "clusters")
 ANALYSES = ("paper", "penalty", "scaling")
 
 
@@ -114,6 +114,9 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
                                 or not 0 < density < 20):
         raise _err(source, f"{where}.density", f"must be a number in (0, 20) obstacles per "
                    f"square metre, got {density!r}")
+    if density is not None and t["kind"] == "clusters":
+        raise _err(source, f"{where}.density", "not used by kind clusters (each scene draws "
+                   "its own, 0.8 to 2.0 obstacles per square metre); remove it")
     return Family(t["name"], t["kind"], obs, scenes,
                   _int(t.get("seed", 0), source, f"{where}.seed", *validation.SEED),
                   None if density is None else float(density))

@@ -11,6 +11,8 @@ right edge, headings within 60 degrees of +x.
   from start to goal, the rest uniform; a scene is kept only when that straight
   line and all four direct Dubins paths (no obstacle touched) collide and the
   exact optimum wraps at least three obstacles.
+- ``clusters`` (:mod:`hga_jax.study.clusters`): held-out scenes by another rule
+  (clumps, per-scene robot and field, any headings), blocked as ``obstructed``.
 
 Every kept scene has a feasible optimum that a chromosome expresses (touching
 each obstacle at most once), so a GA run can hit it. Scene ``i`` with ``n``
@@ -90,16 +92,20 @@ def _place(rng, n: int, w: float, h: float, start, goal, obstructed: bool) -> np
     return np.array(out).reshape(n, 2)
 
 
-def scene_dict(name: str, w: float, h: float, start, goal, centres) -> dict:
-    """A scenario mapping (metres, degrees) rounded to 0.1 mm and 0.01 degree."""
+def scene_dict(name: str, w: float, h: float, start, goal, centres, radii=None,
+               robot_radius: float = ROBOT_RADIUS, turn_radius: float = TURN_RADIUS) -> dict:
+    """A scenario mapping (metres, degrees) rounded to 0.1 mm and 0.01 degree; ``radii``:
+    per-obstacle physical radii (None: none written, the robot's radius)."""
     r4 = lambda v: round(float(v), 4)  # noqa: E731
+    obstacles = ([{"x": r4(x), "y": r4(y)} for x, y in centres] if radii is None else
+                 [{"x": r4(x), "y": r4(y), "radius": r4(r)} for (x, y), r in zip(centres, radii)])
     return {
         "name": name,
-        "robot": {"radius": ROBOT_RADIUS, "min_turn_radius": TURN_RADIUS},
+        "robot": {"radius": r4(robot_radius), "min_turn_radius": r4(turn_radius)},
         "field": {"xmin": 0.0, "xmax": r4(w), "ymin": 0.0, "ymax": r4(h), "keep_inside": True},
         "start": {"x": r4(start[0]), "y": r4(start[1]), "heading_deg": round(start[2], 2)},
         "goal": {"x": r4(goal[0]), "y": r4(goal[1]), "heading_deg": round(goal[2], 2)},
-        "obstacles": [{"x": r4(x), "y": r4(y)} for x, y in centres],
+        "obstacles": obstacles,
     }
 
 
@@ -130,6 +136,10 @@ def _blocked(sc: Scenario) -> bool:
 def generate(kind: str, n: int, seed: int, index: int, name: str,
              density: float | None = None) -> dict:
     """Scene ``index`` with ``n`` obstacles of a ``kind`` family with ``seed``: a mapping."""
+    if kind == "clusters":
+        from . import clusters
+
+        return clusters.generate(n, seed, index, name, density)
     rng = np.random.default_rng([seed, n, index])
     w, h = field_size(n, density)
     for _ in range(MAX_TRIES):
