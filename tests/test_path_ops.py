@@ -268,7 +268,7 @@ def _run(move, legs, perm, labels, seed):
 
 def test_registry_holds_the_documented_moves():
     assert set(registry.names("path_mutation")) >= {"none", "flip", "drop", "insert", "shift",
-                                                     "repair", "mixed"}
+                                                     "repair", "mixed", "guided"}
 
 
 @pytest.mark.parametrize("scene", list(SCENES))
@@ -283,6 +283,11 @@ def test_every_move_keeps_chromosomes_valid_and_does_what_it_says(scenes, name, 
     assert p2.dtype == np.int32 and l2.dtype == np.int32
     assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (COUNT, 1)))
     assert np.all(np.isin(l2, (-1, 0, 1))) and np.all(l2[:, [0, -1]] != 0)
+    if name == "guided":  # the best of candidate moves: each result is one of them
+        for c in range(COUNT):
+            assert any(check(perm[c], labels[c], p2[c], l2[c], legs) for check in CHECKS.values()
+                       ), (c, perm[c], labels[c], p2[c], l2[c])
+        return
     if name == "mixed":
         kinds = {nm: 0 for nm in CHECKS}
         for c in range(COUNT):
@@ -519,7 +524,10 @@ def test_legs_are_built_once_per_scenario_and_only_on_request():
     sc = load_scenario("configs/scenarios/robocup_paper.toml")
     assert sc.search_arrays().legs is None
     a = sc.search_arrays(with_legs=True).legs
-    assert a is sc.search_arrays(np.float64, "full", with_legs=True).legs
+    assert a is sc.search_arrays(with_legs=True).legs
+    b = sc.search_arrays(np.float64, "full", with_legs=True).legs  # lengths per dtype
+    assert a.blockers is b.blockers and a.bad is b.bad
+    assert a.length.dtype == np.float32 and b.length.dtype == np.float64
     assert isinstance(a, legs_mod.Legs) and a.blockers.shape == (22, 22, 9)
 
 

@@ -10,6 +10,13 @@ obstacles its segment passes through. They never search over whole paths.
   :func:`hga_jax.model.collision.segment_obstacles`; a missing tangent's stand-in
   counts too).
 - ``blocked[a, c]``: some obstacle blocks the segment.
+- ``length[a, c]``: the length of the tangent's segment (m), as a TSP distance.
+- ``bad[a, c]``: the tangent has a violation of its own (an obstacle, the field,
+  a missing tangent: :mod:`hga_jax.model.tangents`).
+- ``penalty``: the penalty per violation ``delta`` (m) of the fitness.
+
+Nothing here depends on a path: an arc's length and violations depend on the
+legs before and after it, and only decoding a chromosome gives them.
 
 Host code (numpy), built once per scenario from the float64 tangent table.
 """
@@ -25,14 +32,19 @@ from .tangents import TangentTable
 
 
 class Legs(NamedTuple):
-    """``blockers`` (C, C, n) and ``blocked`` (C, C), bool (see module doc)."""
+    """``blockers`` (C, C, n), ``blocked`` and ``bad`` (C, C) bool, ``length`` (C, C)
+    metres, ``penalty`` () metres (see module doc)."""
 
     blockers: Any
     blocked: Any
+    length: Any = None
+    bad: Any = None
+    penalty: Any = None
 
 
-def build(tb: TangentTable, centres, model_radii) -> Legs:
-    """The legs of a scenario from its tangent table (float64 recommended)."""
+def build(tb: TangentTable, centres, model_radii, penalty: float = 0.0) -> Legs:
+    """The legs of a scenario from its tangent table (float64 recommended); ``penalty``:
+    the fitness's penalty per violation (m)."""
     f8 = np.float64
     tol = g.tolerances(f8)
     centres = np.asarray(centres, f8).reshape(-1, 2)
@@ -41,4 +53,6 @@ def build(tb: TangentTable, centres, model_radii) -> Legs:
     obstacles = col.obstacles(centres, radii, ndim=2)
     hits = col.segment_obstacles(ends, obstacles, tol.length, "full")  # (n, C, C)
     hits = np.ascontiguousarray(np.moveaxis(np.asarray(hits, bool), 0, -1))
-    return Legs(blockers=hits, blocked=np.any(hits, axis=-1))
+    return Legs(blockers=hits, blocked=np.any(hits, axis=-1),
+                length=np.asarray(tb.length, f8), bad=np.asarray(tb.violations_full) > 0,
+                penalty=np.asarray(penalty, f8))

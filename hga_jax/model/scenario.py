@@ -108,8 +108,14 @@ class Scenario:
         if with_legs:
             if "legs" not in self._turns:
                 s64 = self.arrays(np.float64)
-                self._turns["legs"] = legs.build(s64.tangents, s64.centres, s64.model_radii)
-            sa = sa._replace(legs=self._turns["legs"])
+                self._turns["legs"] = legs.build(s64.tangents, s64.centres, s64.model_radii,
+                                                 self.delta)
+            typed = ("legs", np.dtype(dtype).name)  # lengths in the search's dtype
+            if typed not in self._turns:
+                lg = self._turns["legs"]
+                self._turns[typed] = lg._replace(length=np.asarray(lg.length, dtype),
+                                                 penalty=np.asarray(lg.penalty, dtype))
+            sa = sa._replace(legs=self._turns[typed])
         if collision not in self._turns:
             table = None
             if turns.fits(self.n):

@@ -123,11 +123,18 @@ def blocked_legs(perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]
     s = labels.shape[-1]
     ids, touched = path_circles(perm, labels)
     pos = jnp.arange(s, dtype=jnp.int32)
-    later = touched[None, :] & (pos[None, :] > pos[:, None])  # (s, s)
-    nxt = jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
-    nxt_id = take(ids, nxt)
+    nxt_id = take(ids, next_touched(touched))
     blocked = jnp.asarray(legs.blocked)[ids, nxt_id] & touched & (pos < s - 1)
     return ids, nxt_id, blocked
+
+
+def next_touched(touched: Array) -> Array:
+    """Per position ``k`` (n + 2,) the first touched position after ``k`` (the goal's,
+    ``n + 1``, for the goal itself): a reversed running minimum, O(n)."""
+    s = touched.shape[-1]
+    pos = jnp.arange(s, dtype=jnp.int32)
+    first_from = jax.lax.cummin(jnp.where(touched, pos, s - 1), reverse=True)
+    return jnp.concatenate([first_from[1:], jnp.full((1,), s - 1, jnp.int32)])
 
 
 def _wrap_one(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]:

@@ -164,7 +164,8 @@ def isolated() -> Iterator[None]:
 
 
 def _load_builtins() -> None:
-    from hga_jax.search import label_ops, path_ops, perm_crossover, perm_mutation, selection
+    from hga_jax.search import guided, label_ops, path_ops, perm_crossover, perm_mutation
+    from hga_jax.search import selection
 
     def add(kind, name, fn, **kw):
         _TABLE[kind][name] = Operator(kind, name, fn, builtin=True, doc=fn.__doc__ or "", **kw)
@@ -185,3 +186,4 @@ def _load_builtins() -> None:
     add("path_mutation", "none", path_ops.keep)
     for name in ("flip", "drop", "insert", "shift", "repair", "mixed"):
         add("path_mutation", name, getattr(path_ops, name))
+    add("path_mutation", "guided", guided.guided)

@@ -41,11 +41,15 @@ def bound(perm, labels, settings: GASettings):
     return jnp.concatenate([labels[..., :1], middle, labels[..., -1:]], axis=-1)
 
 
-def _legs(sa: ScenarioArrays):
+def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
+    """The scenario's legs, their penalty per bad leg scaled as the fitness's delta."""
     if sa.legs is None:
         raise ValueError("these settings use path moves or seeding: pass scenario arrays "
                          "from Scenario.search_arrays(..., with_legs=True)")
-    return sa.legs
+    legs = sa.legs
+    if settings is not None and settings.penalty_weight != 1.0 and legs.penalty is not None:
+        legs = legs._replace(penalty=legs.penalty * settings.penalty_weight)
+    return legs
 
 
 
@@ -166,7 +170,7 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         labels = jax.vmap(lambda k, l: mut.fn(k, l, settings.pm_lower))(
             _keys(rows("mutate_lower")), labels)
     if settings.path_mutation != "none" and n >= 1:
-        m, legs = rows("mutate_path"), _legs(sa)
+        m, legs = rows("mutate_path"), _legs(sa, settings)
         move = registry.get("path_mutation", settings.path_mutation)
         pos = positional(perm, labels, settings)
         mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)

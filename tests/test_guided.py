@@ -1,0 +1,87 @@
+"""The guided path move (hga_jax/search/guided.py): its leg score against a plain-Python
+sum over the float64 tangent table and the float64 path's lines, and the choice of the
+best-scored candidate."""
+import jax
+import numpy as np
+import pytest
+
+from hga_jax.host.config import load_scenario
+from hga_jax.model.exact import solve
+from hga_jax.model.path import evaluate_path, from_chromosome
+from hga_jax.search import guided, rng
+
+SCENES = ("configs/scenarios/robocup_paper.toml", "configs/scenarios/cluttered.toml")
+
+
+def _random(n, count, seed):
+    r = np.random.default_rng(seed)
+    perm = np.stack([r.permutation(n) for _ in range(count)]).astype(np.int32)
+    labels = (r.integers(-1, 2, size=(count, n + 2)) * (r.random((count, n + 2)) < 0.4))
+    labels[:, 0], labels[:, -1] = r.choice([-1, 1], count), r.choice([-1, 1], count)
+    return perm, labels.astype(np.int32)
+
+
+def _circle(position_label, obstacle=None, end=None):
+    """Oriented circle id (hga_jax/model/tangents.py numbering) of a label."""
+    side = (1 + position_label) // 2
+    if end == "start":
+        return side
+    if end == "goal":
+        return 2 + side
+    return 4 + 2 * obstacle + (1 - side)
+
+
+def _score_by_hand(sc, perm, labels):
+    """Sum over the legs of the touched sequence, from the float64 tangent table."""
+    tb = sc.arrays(np.float64).tangents
+    seq = [_circle(labels[0], end="start")]
+    seq += [_circle(lab, obstacle=o) for o, lab in zip(perm, labels[1:-1]) if lab != 0]
+    seq.append(_circle(labels[-1], end="goal"))
+    length = sum(float(tb.length[a, c]) for a, c in zip(seq, seq[1:]))
+    bad = sum(int(tb.violations_full[a, c] > 0) for a, c in zip(seq, seq[1:]))
+    return length, bad
+
+
+@pytest.mark.parametrize("path", SCENES)
+def test_leg_score_is_the_summed_tangents_plus_a_penalty_per_bad_leg(path):
+    sc = load_scenario(path)
+    legs = sc.search_arrays(np.float64, with_legs=True).legs
+    perm, labels = _random(sc.n, 60, seed=sc.n)
+    opt = solve(sc)  # a path whose legs are all clear
+    p0, l0 = from_chromosome(opt.upper, opt.lower, sc.n)
+    perm = np.concatenate([perm, np.asarray(p0, np.int32)[None]])
+    labels = np.concatenate([labels, np.asarray(l0, np.int32)[None]])
+    with jax.enable_x64(True):
+        got = np.asarray(jax.jit(jax.vmap(lambda p, lab: guided.leg_score(p, lab, legs)))(
+            perm, labels))
+    clear = 0
+    for i in range(len(perm)):
+        length, bad = _score_by_hand(sc, perm[i], labels[i])
+        assert got[i] == pytest.approx(length + bad * sc.delta, rel=1e-12, abs=1e-12)
+        if bad == 0:  # then the score is the path's lines: its length without the arcs
+            clear += 1
+            p = evaluate_path(sc, perm[i], labels[i])
+            lines = sum(np.hypot(*np.subtract(s["end"], s["start"])) for s in p.segments
+                        if s["type"] == "line")
+            assert got[i] == pytest.approx(lines, rel=1e-9, abs=1e-9)
+    assert clear >= 1  # the comparison with the path was made
+
+
+def test_guided_keeps_the_candidate_with_the_smallest_leg_score():
+    sc = load_scenario(SCENES[1])
+    legs = sc.search_arrays(np.float32, with_legs=True).legs
+    perm, labels = _random(sc.n, 40, seed=3)
+    keys = jax.random.split(rng.key(5), len(perm))
+    out_p, out_l = jax.jit(jax.vmap(lambda k, p, lab: guided.guided(k, p, lab, legs)))(
+        keys, perm, labels)
+    score = jax.jit(lambda p, lab: guided.leg_score(p, lab, legs))
+    differs = 0
+    for i in range(len(perm)):
+        subkeys = jax.random.split(keys[i], len(guided.MOVES) * guided.PER_MOVE)
+        cands = [guided.MOVES[j // guided.PER_MOVE](subkeys[j], perm[i], labels[i], legs)
+                 for j in range(len(subkeys))]
+        scores = [float(score(*c)) for c in cands]
+        best = int(np.argmin(scores))
+        assert np.array_equal(out_p[i], cands[best][0]) and np.array_equal(out_l[i], cands[best][1])
+        differs += len(set(np.round(scores, 5))) > 1
+    assert differs > len(perm) // 2  # the candidates differ, so the choice is a real one
