@@ -49,8 +49,18 @@ def _choose(mask: Array, word: Array) -> tuple[Array, Array]:
     """A position uniform among the True entries of ``mask`` and whether there is one."""
     count = jnp.sum(mask, dtype=jnp.int32)
     r = int_from_words(word, 0, jnp.maximum(count, 1))
-    idx = jnp.argmax(jnp.cumsum(mask, dtype=jnp.int32) > r).astype(jnp.int32)
+    idx = jnp.argmax(prefix_count(mask) > r).astype(jnp.int32)
     return idx, count > 0
+
+
+def prefix_count(mask: Array) -> Array:
+    """``cumsum(mask)`` (int32) of a short bool vector, as a product with a triangular
+    matrix: exact (counts of ones, HIGHEST precision) and, vmapped over chromosomes on
+    the CPU, about twice as fast as ``cumsum`` (a reduce-window) at n = 25."""
+    s = mask.shape[-1]
+    lower = jnp.tril(jnp.ones((s, s), jnp.float32))
+    counts = jnp.matmul(lower, mask.astype(jnp.float32), precision=jax.lax.Precision.HIGHEST)
+    return counts.astype(jnp.int32)
 
 
 def move_apply(perm: Array, labels: Array, j: Array, i: Array, label: Array) -> tuple[Array, Array]:
@@ -130,11 +140,12 @@ def blocked_legs(perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]
 
 def next_touched(touched: Array) -> Array:
     """Per position ``k`` (n + 2,) the first touched position after ``k`` (the goal's,
-    ``n + 1``, for the goal itself): a reversed running minimum, O(n)."""
+    ``n + 1``, for the goal itself). O(n^2) comparisons: vmapped on the CPU they ran
+    4 times faster than a reversed running minimum (``cummin``) at n = 25."""
     s = touched.shape[-1]
     pos = jnp.arange(s, dtype=jnp.int32)
-    first_from = jax.lax.cummin(jnp.where(touched, pos, s - 1), reverse=True)
-    return jnp.concatenate([first_from[1:], jnp.full((1,), s - 1, jnp.int32)])
+    later = touched[None, :] & (pos[None, :] > pos[:, None])  # (s, s)
+    return jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
 
 
 def _wrap_one(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]:
