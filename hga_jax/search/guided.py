@@ -41,8 +41,13 @@ def leg_score(perm: Array, labels: Array, legs) -> Array:
     nid = take(ids, path_ops.next_touched(touched))
     on = touched & (jnp.arange(s) < s - 1)
     length, bad = jnp.asarray(legs.length), jnp.asarray(legs.bad)
-    per_leg = length[ids, nid] + jnp.where(bad[ids, nid], legs.penalty, 0.0)
-    return jnp.sum(jnp.where(on, per_leg, 0.0))
+    per_leg = jnp.where(on, length[ids, nid] + jnp.where(bad[ids, nid], legs.penalty, 0.0), 0.0)
+    # Added in position order, one add at a time: a reduction's order may depend on how
+    # XLA vectorises the batch, and a run must score alike alone and in any batch.
+    total = per_leg[0]
+    for k in range(1, s):
+        total = total + per_leg[k]
+    return total
 
 
 def guided(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
