@@ -156,7 +156,8 @@ def test_compiled_programs_are_cached_on_disk_and_change_nothing(tmp_path):
     for i in range(2):
         out = tmp_path / f"r{i}"
         subprocess.run([sys.executable, "-m", "hga_jax", "run", ROBOCUP, "--runs", "3",
-                        "--generations", "4", "--out", str(out), "--quiet", "--no-exact"],
+                        "--preset", "paper", "--generations", "4", "--out", str(out), "--quiet",
+                        "--no-exact"],
                        env=env, check=True, capture_output=True)
         results.append(json.loads((out / "result.json").read_text()))
         entries.append(sorted(p.name for p in (tmp_path / "cache").iterdir()))
@@ -167,8 +168,11 @@ def test_compiled_programs_are_cached_on_disk_and_change_nothing(tmp_path):
 # ------------------------------------------------------------ what a new user meets
 
 SAME = GOOD.replace("x = 2.5\ny = 0.5\nheading_deg = 0", "x = 0.3\ny = 0.5\nheading_deg = 0")
-TINY = ["--runs", "3", "--generations", "3", "--population", "10", "--quiet"]
-QUICK = ["--runs", "2", "--generations", "0", "--population", "10", "--quiet"]  # one program
+# The paper's preset: these tests are about the command line, and its program compiles
+# in half the time of the recommended one (guided moves).
+TINY = ["--runs", "3", "--generations", "3", "--population", "10", "--quiet", "--preset", "paper"]
+QUICK = ["--runs", "2", "--generations", "0", "--population", "10", "--quiet",
+         "--preset", "paper"]  # one program
 
 
 def _run_cli(argv):
@@ -248,8 +252,11 @@ def test_summary_reads_well(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "None" not in text and "1 runs" not in text and "1 run of seed 0" in text
     assert "collision full" in text and "tournament selection (size 2)" in text
-    assert "operators (preset recommended)" in text and "path move flip (pm 1)" in text
-    assert "restart after 8 stalled generations" in text
+    assert "operators (preset recommended)" in text and "path move guided (pm 1)" in text
+    # 1 obstacle: 2 generations, as the rule says
+    assert "2 generations (generations = 2 + 24 * max(0, n - 9))" in text
+    assert "restart after 12 stalled generations" in text
+    assert "penalty 10 x 2 pi R per violation in the search" in text
     import re
 
     assert re.findall(r"\d+\.(\d+)%", text) and all(
@@ -424,7 +431,13 @@ def test_preset_paper_reproduces_the_papers_settings_and_is_recorded(tmp_path):
     assert docs["paper"]["preset"] == "paper"
     assert docs["paper"]["settings"] == {**dataclasses.asdict(PAPER), "generations": 3}
     assert docs["recommended"]["preset"] == "recommended"
-    assert docs["recommended"]["settings"] == {**dataclasses.asdict(RECOMMENDED), "generations": 3}
+    # result.json holds the settings the runs used (the budget rule resolved) and the rule
+    assert docs["recommended"]["settings"] == {**dataclasses.asdict(RECOMMENDED), "generations": 3,
+                                               "generations_per_obstacle": 0}
+    assert docs["recommended"]["budget"] == {
+        "rule": "generations = 3 + 24 * max(0, n - 9)", "obstacles": 1, "generations": 3,
+        "evaluations_per_run": 50 * 4}
+    assert "budget" not in docs["paper"]
     # the paper's HGA: roulette, CX, inversion, two-point, redraw, 0.4/0.02, no elites
     p = docs["paper"]["settings"]
     assert (p["selection"], p["perm_crossover"], p["perm_mutation"], p["label_crossover"],
