@@ -12,7 +12,7 @@ Notebook use::
 
 The model and the result files are defined in docs/model.md.
 """
-__version__ = "0.3.0"
+__version__ = "0.4.0"
 
 from hga_jax.running import distributed  # distributed.initialize: one job over several processes
 from hga_jax.host.config import load_scenario, scenario_from_dict

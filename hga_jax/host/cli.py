@@ -56,7 +56,10 @@ OPERATOR_HELP = {  # operator kind (a setting, registry.KINDS) -> help
 }
 GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "registry"
     "population": (int, None, "individuals per run"),
-    "generations": (int, None, "generations after the random initial one"),
+    "generations": (int, None, ("generations after the random initial one (on up to 9 "
+                                "obstacles, see --generations-per-obstacle)")),
+    "generations_per_obstacle": (int, None, ("generations added per obstacle beyond 9 "
+                                             "(0: a fixed count)")),
     "pc_upper": (float, None, "crossover probability per pair of parents, permutation"),
     "pm_upper": (float, None, "mutation probability per individual, permutation"),
     "pc_lower": (float, None, "crossover probability per pair of parents, labels"),

@@ -55,6 +55,8 @@ def _extras(st: GASettings) -> str:
         out.append(f"seeded by wrapping blockers ({pct(st.seeding)} of each new population)")
     if st.restart_after:
         out.append(f"restart after {count(st.restart_after, 'stalled generation')}")
+    if st.penalty_weight != 1.0:
+        out.append(f"penalty {st.penalty_weight:g} x 2 pi R per violation in the search")
     return "".join("; " + o for o in out)
 
 
@@ -85,7 +87,8 @@ def run_summary(res: RunsResult) -> str:
     lines = [
         f"scenario {sc.name} ({count(sc.n, 'obstacle')}), collision {st.collision}: "
         f"{count(runs, 'run')} of seed {res.seed}, population {st.population}, "
-        f"{count(st.generations, 'generation')}, precision {st.precision}",
+        f"{count(st.generations, 'generation')}"
+        + (f" ({res.budget['rule']})" if res.budget else "") + f", precision {st.precision}",
         f"operators{f' (preset {res.preset})' if res.preset else ''}: {operators(st)}",
         f"best length {s['best_length']:.6f} m ({'feasible' if s['best_feasible'] else 'INFEASIBLE'}"
         f", touches {touches(res.best.touched)}), found in {s['runs_found_best']:,} of "

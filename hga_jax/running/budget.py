@@ -121,6 +121,7 @@ def plan(n: int, settings: GASettings, runs: int, chunk: int | None, devices: in
     obstacles on); it is lowered to what fits and rounded up to a
     multiple of ``devices``.
     """
+    settings = settings.for_obstacles(n)
     avail = int(FILL * (available_bytes() if available is None else available))
     avail -= table_bytes(n, settings)
     p, g = settings.population, settings.generations

@@ -50,6 +50,7 @@ class RunsResult:
     preset: str | None = None  # the preset the settings were built on (None: not said)
     devices: int = 1  # devices the search was spread over (all processes')
     plugins: tuple[str, ...] = ()  # plugins imported for the settings (hga-jax run --plugin)
+    budget: dict[str, Any] | None = None  # how the generations grew with n (GASettings.budget)
 
     @property
     def feasible(self) -> np.ndarray:
@@ -150,6 +151,7 @@ class RunsResult:
             "preset": self.preset,
             **({"plugins": list(self.plugins)} if self.plugins else {}),
             "settings": asdict(self.settings),
+            **({"budget": self.budget} if self.budget else {}),
             "best": {"run": self.best_run, **self.best.to_dict()},
             "optimum": optimum_dict(self.optimum),
             "summary": self.summary(),

@@ -130,6 +130,8 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
+    budget_rule = settings.budget(scenario.n)
+    settings = settings.for_obstacles(scenario.n)
     validation.run_range(seed, runs, first_run, chunk, "run_many")
     procs, me = jax.process_count(), jax.process_index()
     if procs == 1:
@@ -163,7 +165,7 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         compile_s=found.compile_s, search_s=found.search_s,
         finish_s=found.finish_s + time.perf_counter() - t0,
         evaluations=runs * settings.population * (settings.generations + 1),
-        preset=preset, devices=jax.device_count(),
+        preset=preset, devices=jax.device_count(), budget=budget_rule,
     )
 
 

@@ -27,6 +27,11 @@ drawn at random. ``restart_after = R``: at generations R, 2R, 3R, ..., a run who
 did not improve in the last R generations starts a new population, drawn like
 generation 0, without elites (0: never restart). The best-so-far is kept.
 
+``generations_per_obstacle = k``: a run on ``n`` obstacles makes
+``generations + k * max(0, n - 9)`` generations (9: the paper's scene), so the
+budget grows with the scene; :meth:`GASettings.for_obstacles` resolves it (the
+runner does, and records the rule in ``result.json``). 0 (the paper): a fixed count.
+
 ``penalty_weight`` scales the paper's penalty per violation
 ``2*pi*R`` during the search (1 = the paper); reported lengths, feasibility and
 gaps do not depend on it.
@@ -41,6 +46,8 @@ from typing import Any, Callable, Mapping, Sequence
 from hga_jax.errors import ConfigError
 
 LABEL_BINDINGS = ("position", "obstacle")
+BUDGET_BASE = 9
+"""Obstacles (the paper's scene) up to which ``generations_per_obstacle`` adds nothing."""
 COLLISIONS = ("full", "paper")
 PRECISIONS = ("float32", "float64")
 
@@ -70,6 +77,27 @@ class GASettings:
     pm_path: float = 0.0
     seeding: float = 0.0
     restart_after: int = 0
+    generations_per_obstacle: int = 0
+
+    def for_obstacles(self, n: int) -> GASettings:
+        """The settings of a run on ``n`` obstacles: ``generations`` raised by
+        ``generations_per_obstacle`` per obstacle beyond :data:`BUDGET_BASE`, and
+        ``generations_per_obstacle`` then 0 (resolved; resolving again changes nothing)."""
+        if not self.generations_per_obstacle:
+            return self
+        extra = self.generations_per_obstacle * max(0, int(n) - BUDGET_BASE)
+        return dataclasses.replace(self, generations=self.generations + extra,
+                                   generations_per_obstacle=0)
+
+    def budget(self, n: int) -> dict[str, Any] | None:
+        """How the generation count of a run on ``n`` obstacles was set (None: fixed)."""
+        k = self.generations_per_obstacle
+        if not k:
+            return None
+        g = self.for_obstacles(n).generations
+        return {"rule": f"generations = {self.generations} + {k} * max(0, n - {BUDGET_BASE})",
+                "obstacles": int(n), "generations": g,
+                "evaluations_per_run": self.population * (g + 1)}
 
     @property
     def uses_legs(self) -> bool:
@@ -97,7 +125,8 @@ class GASettings:
         def pop() -> str:
             return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
-        for key in ("population", "generations", "tournament_size", "elites", "restart_after"):
+        for key in ("population", "generations", "tournament_size", "elites", "restart_after",
+                    "generations_per_obstacle"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad(key, f"must be an integer, got {v!r}")
@@ -109,6 +138,9 @@ class GASettings:
             raise bad("tournament_size", f"must be in 1..{pop()}, got {self.tournament_size}")
         if not 0 <= self.elites < self.population:
             raise bad("elites", f"must be in 0..{pop()} - 1, got {self.elites}")
+        if self.generations_per_obstacle < 0:
+            raise bad("generations_per_obstacle", f"must be >= 0 (0: a fixed count), "
+                      f"got {self.generations_per_obstacle}")
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding"):
@@ -187,12 +219,16 @@ PAPER = GASettings()
 """The paper's HGA (section 4): the defaults of :class:`GASettings`."""
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
-                         path_mutation="flip", pm_path=1.0, seeding=1.0, restart_after=8)
-"""hga-jax's recommended HGA, on the paper's budget (50 x 51 chromosomes): the
-paper's operators and rates, plus generation 0 and restarts seeded by wrapping
-blocking obstacles, one direction flip per child, tournament selection, 2 elites
-and restarts of runs stalled for 8 generations (``configs/ga/recommended.toml``;
-measured in docs/results.md)."""
+                         path_mutation="guided", pm_path=1.0, seeding=1.0, restart_after=12,
+                         penalty_weight=10.0, generations_per_obstacle=24)
+"""hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
+restarts seeded by wrapping blocking obstacles, one guided path move per child (the
+best of ten candidate moves by their legs), tournament selection, 2 elites, restarts
+of runs stalled for 12 generations, ten times the paper's penalty per violation
+during the search, and a budget that grows with the scene: the paper's 50 x 51
+chromosomes up to 9 obstacles, 24 more generations per obstacle beyond (15
+obstacles: 50 x 195 = 9,750; 25: 50 x 435 = 21,750; 40: 50 x 795 = 39,750)
+(``configs/ga/recommended.toml``; measured in docs/results.md)."""
 
 PRESETS: dict[str, GASettings] = {"recommended": RECOMMENDED, "paper": PAPER}
 """Named settings: ``hga-jax run --preset NAME`` (default ``recommended``)."""

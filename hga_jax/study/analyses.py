@@ -153,48 +153,101 @@ def penalty(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
 
 
 def scaling(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
+    """Per configuration, scene family and obstacle count: hit rate (95% Wilson),
+    feasible share, median and 90th-percentile gap (infeasible runs count as an
+    infinite gap), evaluations per run, to the hit (median over hits) and by which
+    99% of runs had hit, GA ms per run against the exact solver's ms per scene
+    (``scaling.csv``, ``scaling.md``, ``figures/scaling.png``)."""
     out = []
     gap, hit = numeric(tab, "gap"), tab["hit"].to_numpy(bool)
     config, obstacles = tab["config"].to_numpy(), tab["obstacles"].to_numpy()
+    family = tab["family"].to_numpy()
     time_s, evals = numeric(tab, "time_s"), numeric(tab, "evaluations")
+    to_hit = numeric(tab, "evaluations_hit")
     for c in study.configs:
-        for n in sorted(set(obstacles.tolist())):
-            m = (config == c.label) & (obstacles == n)
-            if not m.any():
-                continue
-            ds = [d for d in docs if d["config"] == c.label and d["obstacles"] == n]
-            k, runs = int(hit[m].sum()), int(m.sum())
-            lo, hi = stats.wilson(k, runs)
-            out.append({"config": c.label, "obstacles": n, "scenes": len(ds), "runs": runs,
-                        "hit_rate": k / runs, "hit_rate_ci_low": lo, "hit_rate_ci_high": hi,
-                        "gap_median": float(np.median(gap[m])),
-                        "feasible_rate": float(np.mean(np.isfinite(gap[m]))),
-                        "ga_ms_per_run": 1000 * float(np.mean(time_s[m])),
-                        "ga_evaluations_per_s": float(np.sum(evals[m]) / np.sum(time_s[m])),
-                        "exact_ms_median": 1000 * float(np.median([d["exact_s"] for d in ds]))})
+        for fam in dict.fromkeys(family.tolist()):
+            for n in sorted(set(obstacles[family == fam].tolist())):
+                m = (config == c.label) & (obstacles == n) & (family == fam)
+                if not m.any():
+                    continue
+                ds = [d for d in docs if d["config"] == c.label and d["obstacles"] == n
+                      and d["family"] == fam]
+                k, runs = int(hit[m].sum()), int(m.sum())
+                lo, hi = stats.wilson(k, runs)
+                hits_at = to_hit[m][hit[m]]
+                out.append({
+                    "config": c.label, "family": fam, "obstacles": n, "scenes": len(ds),
+                    "runs": runs, "hit_rate": k / runs, "hit_rate_ci_low": lo,
+                    "hit_rate_ci_high": hi,
+                    "feasible_rate": float(np.mean(np.isfinite(gap[m]))),
+                    "gap_median": float(np.median(gap[m])),
+                    "gap_p90": float(np.quantile(gap[m], 0.9, method="higher")),
+                    "evaluations_per_run": float(np.mean(evals[m])),
+                    "evaluations_to_hit_median": (float(np.median(hits_at)) if len(hits_at)
+                                                  else math.nan),
+                    # evaluations by which 99% of runs had hit (inf: fewer than 99% did)
+                    "evaluations_to_hit_p99": float(np.quantile(
+                        np.where(hit[m], to_hit[m], np.inf), 0.99, method="higher")),
+                    "ga_ms_per_run": 1000 * float(np.mean(time_s[m])),
+                    "ga_evaluations_per_s": float(np.sum(evals[m]) / np.sum(time_s[m])),
+                    "exact_ms_median": 1000 * float(np.median([d["exact_s"] for d in ds]))})
     write_csv(os.path.join(folder, "scaling.csv"), pd.DataFrame(out), missing="nan")
+    text = _scaling_markdown(out)
+    write_file(os.path.join(folder, "scaling.md"), lambda fh: fh.write(text))
     fig, (a1, a2) = subplots(1, 2, figsize=(10, 4))
     for c in study.configs:
-        rs = [r for r in out if r["config"] == c.label]
-        n = [r["obstacles"] for r in rs]
-        rate = np.array([r["hit_rate"] for r in rs])
-        err = np.array([[r["hit_rate"] - r["hit_rate_ci_low"] for r in rs],
-                        [r["hit_rate_ci_high"] - r["hit_rate"] for r in rs]])
-        a1.errorbar(n, 100 * rate, yerr=100 * err, marker="o", capsize=3, label=c.label)
-        a2.plot(n, [r["ga_ms_per_run"] for r in rs], marker="o", label=f"GA run ({c.label})")
-    n = [r["obstacles"] for r in out if r["config"] == study.configs[0].label]
-    a2.plot(n, [r["exact_ms_median"] for r in out if r["config"] == study.configs[0].label],
-            marker="s", color="k", label="exact solver")
+        for fam in dict.fromkeys(r["family"] for r in out):
+            rs = [r for r in out if r["config"] == c.label and r["family"] == fam]
+            if not rs:
+                continue
+            n = [r["obstacles"] for r in rs]
+            rate = np.array([r["hit_rate"] for r in rs])
+            err = np.array([[r["hit_rate"] - r["hit_rate_ci_low"] for r in rs],
+                            [r["hit_rate_ci_high"] - r["hit_rate"] for r in rs]])
+            a1.errorbar(n, 100 * rate, yerr=100 * err, marker="o", capsize=3,
+                        label=f"{c.label}, {fam}")
+            a2.plot(n, [r["ga_ms_per_run"] for r in rs], marker="o",
+                    label=f"GA run ({c.label}, {fam})")
+    first = [r for r in out if r["config"] == study.configs[0].label]
+    for fam in dict.fromkeys(r["family"] for r in first):
+        rs = [r for r in first if r["family"] == fam]
+        a2.plot([r["obstacles"] for r in rs], [r["exact_ms_median"] for r in rs],
+                marker="s", color="k", ls=":", label=f"exact solver ({fam})")
     a1.set_ylabel("hit rate (%), 95% Wilson")
     a2.set_ylabel("milliseconds (GA: share of a batched search)")
     a2.set_yscale("log")
     for ax in (a1, a2):
         ax.set_xlabel("obstacles")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=6)
     files = [save(fig, os.path.join(folder, "figures", "scaling.png")),
-             os.path.join(folder, "scaling.csv")]
+             os.path.join(folder, "scaling.csv"), os.path.join(folder, "scaling.md")]
     return files
+
+
+def _scaling_markdown(out: list[dict]) -> str:
+    """The scaling table in Markdown (rates and gaps in %)."""
+    def pct(v):
+        return "inf" if math.isinf(v) else ("-" if math.isnan(v) else f"{100 * v:.2f} %")
+
+    def num(v):
+        return "-" if math.isnan(v) else f"{v:,.0f}"
+
+    def num99(v):
+        return "not within the budget" if math.isinf(v) else num(v)
+
+    head = ("| config | family | n | runs | hit rate [95% Wilson] | feasible | median gap | "
+            "p90 gap | evaluations per run | median evaluations to the hit | evaluations "
+            "for 99% of runs to hit | GA ms/run | exact ms/scene |\n|" + "---|" * 13 + "\n")
+    body = "".join(
+        f"| {r['config']} | {r['family']} | {r['obstacles']} | {r['runs']:,} | "
+        f"{pct(r['hit_rate'])} [{100 * r['hit_rate_ci_low']:.1f}, "
+        f"{100 * r['hit_rate_ci_high']:.1f}] | {pct(r['feasible_rate'])} | "
+        f"{pct(r['gap_median'])} | {pct(r['gap_p90'])} | {num(r['evaluations_per_run'])} | "
+        f"{num(r['evaluations_to_hit_median'])} | {num99(r['evaluations_to_hit_p99'])} | "
+        f"{r['ga_ms_per_run']:.2f} | "
+        f"{r['exact_ms_median']:.2f} |\n" for r in out)
+    return head + body
 
 
 ANALYSES: dict[str, Any] = {"paper": paper, "penalty": penalty, "scaling": scaling}

@@ -128,7 +128,12 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
             ds = [d for d in docs if d["family"] == group and d["config"] == c]
             if not ds or "best_so_far_gap_m" not in ds[0]["curves"]:
                 continue
-            med = np.median([d["curves"]["best_so_far_gap_m"][1] for d in ds], axis=0)
+            curves = [d["curves"]["best_so_far_gap_m"][1] for d in ds]
+            # Scenes of one family may run for different generation counts (a budget
+            # that grows with the obstacle count): a run's best-so-far stays after its
+            # last generation, so shorter curves go on at their last value.
+            longest = max(len(v) for v in curves)
+            med = np.median([list(v) + [v[-1]] * (longest - len(v)) for v in curves], axis=0)
             pop = ds[0]["settings"]["population"]
             ax.plot(pop * (np.arange(len(med)) + 1), np.maximum(med, GAP_FLOOR), color=col,
                     label=c, lw=1.2)

@@ -104,6 +104,7 @@ def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full
         "exact_s": o.seconds if o is not None else None,
         "compile_s": res.compile_s, "search_s": res.search_s, "finish_s": res.finish_s,
         "devices": res.devices, "evaluations_per_run": s.population * (s.generations + 1),
+        **({"budget": res.budget} if res.budget else {}),
         "best": {"run": res.best_run, **{k: v for k, v in res.best.to_dict().items()
                                          if k in ("length", "feasible", "violations", "upper",
                                                   "lower")}},
