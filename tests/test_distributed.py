@@ -94,6 +94,7 @@ def test_shares_take_every_run_once_in_order():
     assert [share(0, 2, p, 3) for p in range(3)] == [(0, 1), (1, 1), (2, 0)]  # one idle
 
 
+@pytest.mark.slow  # three processes, each compiling: about 20 s
 @needs_runtime
 def test_two_processes_write_the_result_of_one(tmp_path):
     env = _env(tmp_path)

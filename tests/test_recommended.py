@@ -55,7 +55,8 @@ SCENES = [scenario_from_dict(generate("obstructed", 9, 31, i, f"obstructed9_{i}"
           for i in range(4)]
 
 
-@pytest.mark.parametrize("name, low, high", [("recommended", 0.98, 1.0), ("paper", 0.0, 0.25)])
+@pytest.mark.parametrize("name, low, high", [  # the held-out tests below cover the default lane
+    pytest.param("recommended", 0.98, 1.0, marks=pytest.mark.slow), ("paper", 0.0, 0.25)])
 def test_hit_rate_on_a_small_obstructed_family(name, low, high):
     hits, evaluations = [], 0
     for sc in SCENES:

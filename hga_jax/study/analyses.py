@@ -236,18 +236,18 @@ def _scaling_markdown(out: list[dict]) -> str:
     def num99(v):
         return "not within the budget" if math.isinf(v) else num(v)
 
-    head = ("| config | family | n | runs | hit rate [95% Wilson] | feasible | median gap | "
-            "p90 gap | evaluations per run | median evaluations to the hit | evaluations "
-            "for 99% of runs to hit | GA ms/run | exact ms/scene |\n|" + "---|" * 13 + "\n")
-    body = "".join(
-        f"| {r['config']} | {r['family']} | {r['obstacles']} | {r['runs']:,} | "
-        f"{pct(r['hit_rate'])} [{100 * r['hit_rate_ci_low']:.1f}, "
-        f"{100 * r['hit_rate_ci_high']:.1f}] | {pct(r['feasible_rate'])} | "
-        f"{pct(r['gap_median'])} | {pct(r['gap_p90'])} | {num(r['evaluations_per_run'])} | "
-        f"{num(r['evaluations_to_hit_median'])} | {num99(r['evaluations_to_hit_p99'])} | "
-        f"{r['ga_ms_per_run']:.2f} | "
-        f"{r['exact_ms_median']:.2f} |\n" for r in out)
-    return head + body
+    rows = [{
+        "config": r["config"], "family": r["family"], "n": r["obstacles"],
+        "runs": f"{r['runs']:,}",
+        "hit rate [95% Wilson]": f"{pct(r['hit_rate'])} [{100 * r['hit_rate_ci_low']:.1f}, "
+                                 f"{100 * r['hit_rate_ci_high']:.1f}]",
+        "feasible": pct(r["feasible_rate"]), "median gap": pct(r["gap_median"]),
+        "p90 gap": pct(r["gap_p90"]), "evaluations per run": num(r["evaluations_per_run"]),
+        "median evaluations to the hit": num(r["evaluations_to_hit_median"]),
+        "evaluations for 99% of runs to hit": num99(r["evaluations_to_hit_p99"]),
+        "GA ms/run": f"{r['ga_ms_per_run']:.2f}", "exact ms/scene": f"{r['exact_ms_median']:.2f}",
+    } for r in out]
+    return markdown(pd.DataFrame(rows)) + "\n"
 
 
 ANALYSES: dict[str, Any] = {"paper": paper, "penalty": penalty, "scaling": scaling}
