@@ -3,7 +3,7 @@
 Host code on matplotlib's object API (``matplotlib.figure.Figure``, no pyplot),
 so it runs headless and the figures display in notebooks. Artists carry a
 ``gid`` ("field", "field_inner", "obstacle", "model_circle", "turning_circle",
-"start", "start_arrow", "goal", "goal_arrow", "arc", "line", "touched",
+"start", "start_arrow", "goal", "goal_arrow", "arc", "free_arc", "line", "touched",
 "optimum_path", "violation_piece", "violation_obstacle", "violation_point",
 "best_median", "best_band", "mean_median", "optimum", "length_median",
 "optimum_length") so callers and tests can find them. Obstacles are labelled
@@ -24,7 +24,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 from hga_jax.model.scenario import Scenario
 
 C_ARC, C_LINE, C_START, C_GOAL, C_TOUCH = "tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"
-C_OPT, C_BAD = "black", "red"
+C_OPT, C_BAD, C_FREE = "black", "red", "tab:cyan"
 PTS_PER_RAD = 60  # arc sampling density
 
 
@@ -149,12 +149,14 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     drawn = []
     for seg in segments:
         xy = segment_points(seg)
-        kind = seg["type"]
+        kind = "free arc" if seg.get("free") else seg["type"]
         style = (dict(color=C_ARC, lw=2.6, solid_capstyle="round") if kind == "arc"
-                 else dict(color=C_LINE, lw=2.0))
-        label = "_nolegend_" if kind in kinds_seen else f"path {kind}"
+                 else dict(color=C_FREE, lw=2.6, ls=(0, (2, 1)), solid_capstyle="round")
+                 if kind == "free arc" else dict(color=C_LINE, lw=2.0))
+        label = "_nolegend_" if kind in kinds_seen else (
+            "free turn (circle of radius rho)" if kind == "free arc" else f"path {kind}")
         kinds_seen.add(kind)
-        ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind, label=label, **style)
+        ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind.replace(" ", "_"), label=label, **style)
         pts.append(xy)
         drawn.append(xy)
     if optimum is not None:

@@ -29,6 +29,7 @@ are not joined. Units: metres and radians.
 """
 from __future__ import annotations
 
+import dataclasses
 import heapq
 import math
 import time
@@ -63,6 +64,12 @@ class ExactResult:
     path: ``evaluate_path`` of the optimal chromosome (None when not expressible; then
       ``best_expressible`` is that path). segments: docs/model.md segments of the optimal walk.
     Infeasible scenes: ``feasible`` False, ``length`` inf, ``expressible`` True, no paths.
+    turns: the model, ``"tight-rope"`` (the paper's) or ``"free"`` (turns on circles of
+      radius rho in free space too, :mod:`hga_jax.model.free_turns`). Under free turns
+      ``tight_rope_length`` is the tight-rope optimum (m) and ``free_arcs`` the number of
+      free arcs on the path; a path with free arcs has no chromosome (``expressible``
+      False, ``best_expressible`` the tight-rope optimum's path) and its arcs on free
+      circles carry ``"free": true`` in ``segments``.
     """
 
     length: float
@@ -78,6 +85,9 @@ class ExactResult:
     segments: list[dict[str, Any]] = field(default_factory=list)
     seconds: float = 0.0
     message: str = ""
+    turns: str = "tight-rope"
+    tight_rope_length: float | None = None
+    free_arcs: int = 0
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (length is null when infeasible)."""
@@ -89,8 +99,14 @@ class ExactResult:
             "walk_length": self.walk_length if self.feasible else None,
             "best_expressible": None if best is None else best.to_dict(),
             "seconds": self.seconds, "collision": self.collision, "message": self.message,
-            "segments": self.segments,
-        }
+            "segments": self.segments, "turns": self.turns,
+            **({} if self.turns == "tight-rope" else {
+                "tight_rope_length": _finite(self.tight_rope_length),
+                "free_arcs": self.free_arcs})}
+
+
+def _finite(x: float | None) -> float | None:
+    return None if x is None or not math.isfinite(x) else x
 
 
 class _Graph(NamedTuple):
@@ -284,10 +300,21 @@ def _check_agreement(scenario: Scenario, path: Path | None, walk_length: float) 
         f"{path.upper} lower {path.lower}")
 
 
-def solve(scenario: Scenario, collision: str = "full") -> ExactResult:
-    """The exact optimum of ``scenario`` under ``collision`` ("full" or "paper")."""
+TURNS = ("tight-rope", "free")
+
+
+def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope") -> ExactResult:
+    """The exact optimum of ``scenario`` under ``collision`` ("full" or "paper") and the
+    model of ``turns`` ("tight-rope", the paper's; "free": :func:`solve_free`)."""
     if collision not in ("full", "paper"):
         raise ValueError(f"collision: must be 'full' or 'paper', got {collision!r}")
+    if turns not in TURNS:
+        raise ValueError(f"turns: must be one of {', '.join(TURNS)}, got {turns!r}")
+    if turns == "free":
+        if collision != "full":
+            raise ValueError("turns: free turns are judged by the full collision test "
+                             "(the paper's criterion tests no arc against an obstacle)")
+        return solve_free(scenario)
     t0 = time.perf_counter()
     gr = _build(scenario, collision)
     gx, gy = float(scenario.goal[0]), float(scenario.goal[1])
@@ -322,3 +349,31 @@ def solve(scenario: Scenario, collision: str = "full") -> ExactResult:
         _check_agreement(scenario, path, walk_length)
     return ExactResult(length, True, collision, walk_length, expressible, upper, lower, touched,
                        path, best, segs, spent, message)
+
+
+def solve_free(scenario: Scenario) -> ExactResult:
+    """The free-turn optimum (:mod:`hga_jax.model.free_turns`), with the tight-rope
+    optimum beside it. A path without free arcs that is no shorter than the tight-rope
+    optimum is that optimum (with its chromosome). ``seconds``: the free-turn search
+    alone. Raises :class:`ModelMismatchError` if the free-turn optimum were longer than
+    the tight-rope one (the free graph holds every tight-rope path: a bug)."""
+    from . import free_turns
+
+    tight = solve(scenario, "full")
+    t0 = time.perf_counter()
+    length, segs, touched, free = free_turns.shortest(scenario)
+    spent = time.perf_counter() - t0
+    if length > tight.length + 1e-9 * max(1.0, tight.length):
+        raise ModelMismatchError(
+            f"{scenario.source}: the free-turn optimum ({length!r} m) is longer than the "
+            f"tight-rope optimum ({tight.length!r} m)")
+    if not free and length >= tight.length - 1e-9 * max(1.0, tight.length):
+        return dataclasses.replace(tight, turns="free", tight_rope_length=tight.length,
+                                   seconds=spent)
+    ratio = length / tight.length if math.isfinite(tight.length) else 0.0
+    message = (f"free turns: {free} free arc(s), {100 * (1 - ratio):.2f}% shorter than the "
+               "tight-rope optimum" if math.isfinite(tight.length) else
+               f"free turns: {free} free arc(s); no tight-rope path exists")
+    return ExactResult(length, True, "full", length, False, None, None, touched, None,
+                       tight.path or tight.best_expressible, segs, spent, message,
+                       turns="free", tight_rope_length=tight.length, free_arcs=free)

@@ -1,0 +1,251 @@
+"""Free turns: the car's shortest path, with turns on circles of radius rho in free space.
+
+The paper's model (``turns = "tight-rope"``) turns only on the model circles: the
+start and goal turning circles and the obstacles' model circles. A car with
+minimum turning radius rho may also turn on any circle of radius rho in free space
+(``turns = "free"``); between two close poses the shortest Dubins path is then
+often turn-turn-turn, which no tight rope can express.
+
+A free arc with tangents or junctions on both sides is a rope over a pulley: while
+its circle can move, moving it shortens the path. So at an optimum every free
+circle is pinned by two contacts, and those are the only free circles needed:
+
+- tangent externally to two *anchors* among the start circles, the goal circles
+  and the obstacles' model circles. Next to a pose circle the path changes circle
+  at the contact point (a junction: the free circle turns the other way); next to
+  an obstacle it may turn either way, the obstacle holding the circle;
+- when the field is kept, tangent to a wall of the field shrunk by the robot
+  radius and one anchor, or to two walls.
+
+Free circles have no obstacle of their own: their arcs are judged against every
+obstacle and the field. Start and goal circles may also be entered and left in the
+middle of a path. Circles that touch are joined at their contact point by a tangent
+of length exactly 0 (:func:`hga_jax.model.geometry.tangent`).
+
+:func:`build` makes the tangent graph over all these circles in the layout of
+:mod:`hga_jax.model.exact` (whose search and walk it shares); the collision rule is
+always ``"full"`` (the paper's criterion judges no arc against an obstacle, which
+would let a free arc run through one). Host code (numpy, float64); metres and radians.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from hga_jax.model import collision as col
+from hga_jax.model import geometry as g
+from .scenario import Scenario
+
+TOL = g.tolerances(np.float64)
+FREE = -2  # the ``own`` entry of a free circle (no obstacle, not a pose circle)
+
+
+def _pair_centres(ax, ay, ra, bx, by, rb):
+    """Centres at distance ``ra`` from A and ``rb`` from B (circle intersections),
+    both solutions; rows without one are dropped. Returns ``(x, y, i)`` with ``i``
+    the index of the pair each centre came from."""
+    dx, dy = bx - ax, by - ay
+    d = np.hypot(dx, dy)
+    ok = (d > TOL.eps) & (d <= ra + rb) & (d >= np.abs(ra - rb))
+    d = np.where(ok, d, 1.0)
+    along = (ra * ra - rb * rb + d * d) / (2.0 * d)
+    h = np.sqrt(np.maximum(ra * ra - along * along, 0.0))
+    mx, my = ax + along * dx / d, ay + along * dy / d
+    out = [(mx + s * h * -dy / d, my + s * h * dx / d) for s in (1.0, -1.0)]
+    idx = np.flatnonzero(ok)
+    xs = np.concatenate([out[0][0][idx], out[1][0][idx]])
+    ys = np.concatenate([out[0][1][idx], out[1][1][idx]])
+    return xs, ys, np.concatenate([idx, idx])
+
+
+def free_circles(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pinned free circles of ``sc`` (module doc): ``(x, y, sign)`` of each oriented
+    free circle, radius ``rho``. An orientation is left out where a pose-circle anchor
+    forbids it (the junction turns the other way), and so is a circle that lies wholly
+    inside an obstacle's model circle."""
+    rho = float(sc.min_turn_radius)
+    x, y, r, sign, _ = sc.circles(np.float64)
+    # Anchors: the 4 pose circles (with the sign a free circle needs to join them) and
+    # the n model circles (either sign: 0); a centre lies ``r + rho`` from its anchors.
+    ax, ay = np.concatenate([x[:4], x[4::2]]), np.concatenate([y[:4], y[4::2]])
+    ar = np.concatenate([r[:4], r[4::2]]) + rho
+    need = np.concatenate([-sign[:4], np.zeros(sc.n)])
+    i, j = np.triu_indices(ax.size, 1)
+    fx, fy, k = _pair_centres(ax[i], ay[i], ar[i], ax[j], ay[j], ar[j])
+    ni, nj = need[i][k], need[j][k]
+    ok = (ni == 0) | (nj == 0) | (ni == nj)
+    cx, cy, cs = [fx[ok]], [fy[ok]], [np.where(ni != 0, ni, nj)[ok]]
+    b = sc.bounds
+    if np.isfinite(b[0]):
+        walls = ((0, b[0] + rho), (0, b[1] - rho), (1, b[2] + rho), (1, b[3] - rho))
+        for axis, at in walls:  # a wall and an anchor: on the line x = at (axis 0) or y = at
+            off = (ax if axis == 0 else ay) - at
+            h = np.sqrt(np.maximum(ar * ar - off * off, 0.0))
+            hit = np.abs(off) <= ar
+            for s in (1.0, -1.0):
+                along = (ay if axis == 0 else ax) + s * h
+                cx.append(np.full(int(hit.sum()), at) if axis == 0 else along[hit])
+                cy.append(along[hit] if axis == 0 else np.full(int(hit.sum()), at))
+                cs.append(need[hit])
+        cx.append(np.array([walls[0][1], walls[0][1], walls[1][1], walls[1][1]]))  # corners
+        cy.append(np.array([walls[2][1], walls[3][1], walls[2][1], walls[3][1]]))
+        cs.append(np.zeros(4))
+    cx, cy, cs = np.concatenate(cx), np.concatenate(cy), np.concatenate(cs)
+    if sc.n:
+        dist = np.hypot(cx[:, None] - sc.centres[:, 0], cy[:, None] - sc.centres[:, 1])
+        inside = np.any(dist + rho < sc.model_radii - TOL.length, axis=1)
+        cx, cy, cs = cx[~inside], cy[~inside], cs[~inside]
+    either = cs == 0
+    return (np.concatenate([cx, cx[either]]), np.concatenate([cy, cy[either]]),
+            np.concatenate([np.where(either, 1.0, cs), -np.ones(int(either.sum()))]))
+
+
+def circles(sc: Scenario) -> tuple[np.ndarray, ...]:
+    """``(x, y, r, sign, own)`` of every circle of the free-turn graph: the scenario's
+    ``2n + 4`` (numbered as in :mod:`hga_jax.model.tangents`), then the free circles
+    (``own`` -1: no exemption)."""
+    x, y, r, sign, own = sc.circles(np.float64)
+    fx, fy, fs = free_circles(sc)
+    rho = float(sc.min_turn_radius)
+    return (np.concatenate([x, fx]), np.concatenate([y, fy]),
+            np.concatenate([r, np.full(fx.size, rho)]), np.concatenate([sign, fs]),
+            np.concatenate([own, np.full(fx.size, -1)]).astype(np.int32))
+
+
+def _tangents(sc: Scenario, circ):
+    """Every feasible directed tangent between two circles of ``circ``: ``(S, T, p1x,
+    p1y, p2x, p2y, length)``. Never between the two orientations of one model circle,
+    nor between circles with coincident centres. Feasible: the full rule of
+    :func:`hga_jax.model.collision.segment_violations` (exists, in the field, clear of
+    every obstacle), applied one obstacle at a time to the tangents still clear, nearest
+    obstacles first (most tangents are blocked, and soon: 6x faster at n = 40)."""
+    x, y, r, sg, own = circ
+    c = x.size
+    sa = sc.arrays(np.float64)
+    a, b = (m.ravel() for m in np.meshgrid(np.arange(c), np.arange(c), indexing="ij"))
+    keep = (a != b) & ~((own[a] == own[b]) & (own[a] >= 0))
+    keep &= np.hypot(x[b] - x[a], y[b] - y[a]) >= TOL.eps
+    a, b = a[keep], b[keep]
+    one, zero = np.ones(a.size), np.zeros(a.size)
+    t = g.tangent(x[a], y[a], r[a], sg[a], x[b], y[b], r[b], sg[b], one, zero, TOL.eps)
+    ends = (t.p1x, t.p1y, t.p2x, t.p2y)
+    no_obstacles = col.obstacles(np.zeros((0, 2)), np.zeros(0), ndim=1)
+    alive = np.flatnonzero(col.segment_violations(ends, t.exists, no_obstacles, sa.bounds,
+                                                  TOL.length, "full") == 0)
+    centres, radii = np.asarray(sa.centres), np.asarray(sa.model_radii)
+    if centres.size:
+        mid = np.array([np.mean(x), np.mean(y)])
+        for j in np.argsort(np.hypot(*(centres - mid).T)):
+            e = tuple(v[alive] for v in ends)
+            hit = col.segment_hits(*e, centres[j, 0], centres[j, 1], radii[j], TOL.length)
+            alive = alive[~hit]
+    return a[alive], b[alive], t.p1x[alive], t.p1y[alive], t.p2x[alive], t.p2y[alive], \
+        t.length[alive]
+
+
+def _sweep_between(circ, c, ax, ay, bx, by):
+    x, y, _, sg, _ = circ
+    return g.sweep(ax - x[c], ay - y[c], bx - x[c], by - y[c], sg[c], TOL.angle)
+
+
+def build(sc: Scenario):
+    """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.exact._Graph`):
+    nodes are the start and goal points (0, 1 and 2, 3, as in the tight-rope graph)
+    and the touch points of every feasible tangent; arcs join consecutive nodes of
+    each circle in its direction (all the way round), the start point to the first
+    node after it and the last node before the goal point to it."""
+    from .exact import _Graph, _arc_ok
+
+    circ = x, y, r, sg, own = circles(sc)
+    sa = sc.arrays(np.float64)
+    S, T, p1x, p1y, p2x, p2y, tlen = _tangents(sc, circ)
+    e = S.size
+    st, gl = sa.start, sa.goal
+    nx = np.concatenate([[st[0]] * 2, [gl[0]] * 2, p1x, p2x])
+    ny = np.concatenate([[st[1]] * 2, [gl[1]] * 2, p1y, p2y])
+    ncirc = np.concatenate([np.arange(4), S, T])
+    ring = np.arange(4, nx.size)
+    rc = ncirc[ring]
+    key = g.sweep(np.ones(ring.size), np.zeros(ring.size), nx[ring] - x[rc], ny[ring] - y[rc],
+                  sg[rc], TOL.angle)
+    order = ring[np.lexsort((ring, key, rc))]
+    co = ncirc[order]
+    same = co[1:] == co[:-1]
+    first = np.flatnonzero(np.r_[True, ~same])
+    last = np.r_[first[1:] - 1, order.size - 1]
+    multi = last > first
+    a = [order[:-1][same], order[last[multi]]]
+    b = [order[1:][same], order[first[multi]]]
+    for pose, to_ring in ((0, True), (1, True), (2, False), (3, False)):
+        on = order[co == pose]
+        if not on.size:
+            continue
+        if to_ring:  # the start point to the first node after it
+            swp = _sweep_between(circ, pose, nx[pose], ny[pose], nx[on], ny[on])
+            a.append(np.array([pose]))
+            b.append(on[np.argmin(swp)][None])
+        else:  # the last node before the goal point to it
+            swp = _sweep_between(circ, pose, nx[on], ny[on], nx[pose], ny[pose])
+            a.append(on[np.argmin(swp)][None])
+            b.append(np.array([pose]))
+    for s_c in (0, 1):  # a start circle that is a goal circle: the arc between the points
+        g_c = 2 + s_c
+        if np.hypot(x[s_c] - x[g_c], y[s_c] - y[g_c]) < TOL.eps:
+            a.append(np.array([s_c]))
+            b.append(np.array([g_c]))
+    a, b = np.concatenate(a).astype(np.int64), np.concatenate(b).astype(np.int64)
+    ac = ncirc[a]
+    swp = _sweep_between(circ, ac, nx[a], ny[a], nx[b], ny[b])
+    aok = _arc_ok(circ, ac, nx[a], ny[a], nx[b], ny[b], swp, sa, "full")
+    a, b, ac, swp = a[aok], b[aok], ac[aok], swp[aok]
+    tie = (swp < TOL.angle) & (a > 3) & (b > 3)
+    nt, tan = int(tie.sum()), np.arange(e) + 4
+    es = np.concatenate([tan, a, b[tie]])
+    ed = np.concatenate([tan + e, b, a[tie]])
+    ew = np.concatenate([tlen, r[ac] * swp, np.zeros(nt)])
+    earc = np.concatenate([np.full(e, -1), ac, ac[tie]])
+    eswp = np.concatenate([np.zeros(e), swp, np.zeros(nt)])
+    srt = np.argsort(es, kind="stable")
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
+    return _Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
+                  [-1] * es.size, es[srt], earc[srt], eswp[srt])
+
+
+def _arc_circles(gr, edges: list[int]) -> list[int]:
+    """The circle of each arc segment of :func:`hga_jax.model.exact._walk`'s segments, in
+    order (the walk merges consecutive arc edges on one circle into one segment)."""
+    out, arc_on = [], -1
+    for k in edges:
+        c = int(gr.arc_circle[k])
+        if c < 0:
+            arc_on = -1
+        elif gr.sweep[k] > 0.0:
+            if arc_on != c:
+                out.append(c)
+            arc_on = c
+    return out
+
+
+def shortest(sc: Scenario):
+    """The free-turn optimum of ``sc``: ``(length, segments, touched, free_arcs)``, with
+    ``length`` inf and empty lists when no path exists. Segments are those of the
+    result files; an arc on a free circle carries ``"free": true``. ``touched``: the
+    ``(obstacle from 0, label)`` model circles the path turns on, in travel order."""
+    from .exact import _search, _walk
+
+    gr = build(sc)
+    gx, gy = float(sc.goal[0]), float(sc.goal[1])
+    h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
+    length, edges, _ = _search(gr, h, distinct=False)
+    if not edges:
+        return float("inf"), [], [], 0
+    circs, segs = _walk(gr, edges)
+    first_free = 2 * sc.n + 4
+    arcs = iter(_arc_circles(gr, edges))
+    free = 0
+    for seg in segs:
+        if seg["type"] == "arc" and next(arcs) >= first_free:
+            seg["free"] = True
+            free += 1
+    own, sg = gr.circles[4], gr.circles[3]
+    touched = [(int(own[c]), int(sg[c])) for c in circs if 4 <= c < first_free]
+    return float(length), segs, touched, free
