@@ -150,6 +150,10 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("scenario", help="scenario TOML file")
     ex.add_argument("--collision", choices=COLLISIONS,
                     help="collision test (default: the scenario's [ga] collision, else full)")
+    ex.add_argument("--turns", choices=("tight-rope", "free"), default="tight-rope",
+                    help="the model: tight-rope (the paper's: turns on the model circles "
+                    "only) or free (also on circles of radius rho in free space: the car's "
+                    "shortest path; needs the full collision test)")
     _plugin_arg(ex)
     _output_args(ex, "results/<scenario file name>-exact")
 
@@ -332,6 +336,9 @@ def _cmd_exact(args) -> int:
     _plugins(args)
     scenario = load_scenario(args.scenario)
     collision = args.collision or _settings(scenario, None, {}).collision
+    if args.turns == "free" and collision != "full":
+        raise ConfigError(f"{args.scenario}: collision: free turns need the full collision "
+                          f"test, got {collision!r}")
     out = args.out or _default_out(args.scenario, "-exact")
     from .output import check_folder
 
@@ -340,7 +347,7 @@ def _cmd_exact(args) -> int:
     from hga_jax.host import report
     from hga_jax.model.exact import solve
 
-    opt = solve(scenario, collision)
+    opt = solve(scenario, collision, turns=args.turns)
     with _ctrl_c_deferred():
         written = report.write_exact(scenario, opt, out, plot=args.plot, force=args.force)
     if args.json:

@@ -154,7 +154,7 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
                  else dict(color=C_FREE, lw=2.6, ls=(0, (2, 1)), solid_capstyle="round")
                  if kind == "free arc" else dict(color=C_LINE, lw=2.0))
         label = "_nolegend_" if kind in kinds_seen else (
-            "free turn (circle of radius rho)" if kind == "free arc" else f"path {kind}")
+            "free turn (radius $\\rho$)" if kind == "free arc" else f"path {kind}")
         kinds_seen.add(kind)
         ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind.replace(" ", "_"), label=label, **style)
         pts.append(xy)

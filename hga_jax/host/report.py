@@ -8,6 +8,7 @@ decimals; counts have thousands separators (docs/model.md).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import asdict
 from typing import Any
 
@@ -144,6 +145,12 @@ def exact_summary(scenario: Scenario, opt: Any) -> str:
     if not opt.feasible:
         return head + f"no feasible path exists; {took}"
     text = head + f"optimum {opt.length:.6f} m touching {touches(opt.touched)}, {took}"
+    if opt.turns == "free":
+        text = head + (f"free-turn optimum {opt.length:.6f} m touching {touches(opt.touched)}"
+                       f", {count(opt.free_arcs, 'free arc')}, {took}\n"
+                       + _tight_rope_line(opt))
+        if opt.free_arcs:
+            return text
     if opt.expressible:
         text += f"\nchromosome: upper {_ints(opt.upper)}, lower {_ints(opt.lower)}"
     else:
@@ -153,6 +160,17 @@ def exact_summary(scenario: Scenario, opt: Any) -> str:
     if opt.collision == "paper":
         text += "\nnote: " + _full_test_note(scenario, opt.path or opt.best_expressible)
     return text
+
+
+def _tight_rope_line(opt: Any) -> str:
+    """The tight-rope optimum beside a free-turn one: its length and the ratio."""
+    tight = opt.tight_rope_length
+    if tight is None or not math.isfinite(tight):
+        return "tight-rope optimum: no feasible path"
+    if opt.length >= tight - 1e-9 * max(1.0, tight):
+        return f"tight-rope optimum {tight:.6f} m: the same path (no free turn shortens it)"
+    return (f"tight-rope optimum {tight:.6f} m; free turns are {100 * (1 - opt.length / tight):.2f}%"
+            f" shorter (ratio {opt.length / tight:.6f})")
 
 
 def _ints(values: list[int]) -> str:
@@ -219,12 +237,20 @@ def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
     """result.json of ``hga-jax exact``: the run schema with the optimum as best path."""
     path = opt.path.to_dict() if opt.feasible and opt.path is not None else None
     return result_document(scenario, {
-        "seed": None, "runs": None, "settings": {"collision": opt.collision},
+        "seed": None, "runs": None, "settings": {"collision": opt.collision, "turns": opt.turns},
         "best": path, "optimum": optimum_dict(opt),
         "summary": {"optimum_length": opt.length if opt.feasible else None,
-                    "seconds": opt.seconds},
+                    "seconds": opt.seconds, **_free_summary(opt)},
         "per_run": [],
     })
+
+
+def _free_summary(opt: Any) -> dict[str, Any]:
+    """Under free turns: the tight-rope optimum and the ratio of the two (else nothing)."""
+    tight = opt.tight_rope_length
+    if opt.turns != "free" or tight is None or not math.isfinite(tight) or not opt.feasible:
+        return {}
+    return {"tight_rope_length": tight, "free_to_tight_rope": opt.length / tight if tight else 1.0}
 
 
 def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False,
@@ -235,8 +261,9 @@ def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False,
         from .plots import plot_path
 
         if opt.feasible:
+            what = "free-turn optimum" if opt.turns == "free" else "optimum"
             fig = plot_path(scenario, opt.segments, touched=opt.touched,
-                            title=path_title(scenario.name, "optimum", opt.length, 0,
+                            title=path_title(scenario.name, what, opt.length, 0,
                                              opt.collision))
         else:
             fig = plot_path(scenario, [], title=f"{scenario.name}: no feasible path, collision "
