@@ -7,12 +7,18 @@ goal (top right). Each scene is solved once to warm up (the decoder's jit compil
 that obstacle count), then timed over repeats. A fixed pure-Python loop is timed as
 a calibration figure: the machine is shared and its speed varies.
 
+The free-turn solver (``turns = "free"``) is timed on the same scenes, against the
+tight-rope solver twice: warm (the scenario's tangent table built, as ``seconds``
+reports) and cold (the table's build included, as the free-turn solver's own tangents
+are).
+
 Usage: ``python experiments/bench_exact.py [--scenes 8] [--repeats 5]``.
 """
 from __future__ import annotations
 
 import argparse
 import statistics
+import time
 
 import numpy as np
 
@@ -58,6 +64,25 @@ def main() -> None:
             print(f"n={n:3d} {collision:5s}: median {statistics.median(times) * 1e3:7.2f} ms, "
                   f"max {max(times) * 1e3:7.2f} ms over {len(times)} solves "
                   f"({infeasible} infeasible, {revisits} revisiting scenes)")
+    rng = np.random.default_rng(args.seed + 1)
+    for n in (9, 15, 25, 40):
+        free, warm, cold, shorter = [], [], [], 0
+        for _ in range(args.scenes):
+            sc = random_scene(rng, n)
+            solve(sc)
+            for _ in range(args.repeats):
+                fresh = Scenario(sc.name, sc.robot_radius, sc.min_turn_radius, sc.start, sc.goal,
+                                 sc.centres, sc.radii, field=sc.field)
+                t0 = time.perf_counter()
+                warm.append(solve(fresh).seconds)
+                cold.append(time.perf_counter() - t0)
+                res = solve(fresh, turns="free")
+                free.append(res.seconds)
+            shorter += res.free_arcs > 0
+        f, w, c = (statistics.median(v) * 1e3 for v in (free, warm, cold))
+        print(f"n={n:3d} free turns: median {f:7.2f} ms; tight rope {w:6.2f} ms warm "
+              f"({f / w:5.1f}x), {c:6.2f} ms cold ({f / c:4.1f}x); {shorter} of {args.scenes} "
+              "scenes shorter with free turns")
     print(f"calibration again: {calibration() * 1e3:.1f} ms")
 
 

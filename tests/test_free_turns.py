@@ -248,7 +248,7 @@ def test_free_circles_are_pinned_by_two_contacts():
 
 def test_a_longer_free_optimum_is_a_bug_not_an_answer(monkeypatch):
     sc = _loop_scene()
-    monkeypatch.setattr(free_turns, "shortest", lambda s: (99.0, [], [], 0))
+    monkeypatch.setattr(free_turns, "shortest", lambda s, bound=None: (99.0, [], [], 0))
     with pytest.raises(ModelMismatchError):
         solve(sc, turns="free")
 

@@ -29,6 +29,8 @@ would let a free arc run through one). Host code (numpy, float64); metres and ra
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from hga_jax.model import collision as col
@@ -99,22 +101,37 @@ def free_circles(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             np.concatenate([np.where(either, 1.0, cs), -np.ones(int(either.sum()))]))
 
 
-def circles(sc: Scenario) -> tuple[np.ndarray, ...]:
+def _reach(sc: Scenario, x, y, r):
+    """Lower bounds (m) on the way from the start point to a circle and from it to the
+    goal point: the distances to its disc."""
+    return (np.maximum(np.hypot(x - sc.start[0], y - sc.start[1]) - r, 0.0),
+            np.maximum(np.hypot(x - sc.goal[0], y - sc.goal[1]) - r, 0.0))
+
+
+def circles(sc: Scenario, bound: float = math.inf) -> tuple[np.ndarray, ...]:
     """``(x, y, r, sign, own)`` of every circle of the free-turn graph: the scenario's
     ``2n + 4`` (numbered as in :mod:`hga_jax.model.tangents`), then the free circles
-    (``own`` -1: no exemption)."""
+    (``own`` -1: no exemption) that a path shorter than ``bound`` (m) can reach: the
+    distance from the start point to the circle's disc and from it to the goal point
+    add up to ``bound`` or less."""
     x, y, r, sign, own = sc.circles(np.float64)
     fx, fy, fs = free_circles(sc)
     rho = float(sc.min_turn_radius)
+    if math.isfinite(bound):
+        to, back = _reach(sc, fx, fy, rho)
+        near = to + back <= bound
+        fx, fy, fs = fx[near], fy[near], fs[near]
     return (np.concatenate([x, fx]), np.concatenate([y, fy]),
             np.concatenate([r, np.full(fx.size, rho)]), np.concatenate([sign, fs]),
             np.concatenate([own, np.full(fx.size, -1)]).astype(np.int32))
 
 
-def _tangents(sc: Scenario, circ):
+def _tangents(sc: Scenario, circ, bound: float = math.inf):
     """Every feasible directed tangent between two circles of ``circ``: ``(S, T, p1x,
     p1y, p2x, p2y, length)``. Never between the two orientations of one model circle,
-    nor between circles with coincident centres. Feasible: the full rule of
+    nor between circles with coincident centres, nor where a path from the start point
+    through both circles' discs to the goal point is longer than ``bound`` (m) even in
+    straight lines (so no path shorter than ``bound`` loses a tangent). Feasible: the full rule of
     :func:`hga_jax.model.collision.segment_violations` (exists, in the field, clear of
     every obstacle), applied one obstacle at a time to the tangents still clear, nearest
     obstacles first (most tangents are blocked, and soon: 6x faster at n = 40)."""
@@ -123,14 +140,22 @@ def _tangents(sc: Scenario, circ):
     sa = sc.arrays(np.float64)
     a, b = (m.ravel() for m in np.meshgrid(np.arange(c), np.arange(c), indexing="ij"))
     keep = (a != b) & ~((own[a] == own[b]) & (own[a] >= 0))
-    keep &= np.hypot(x[b] - x[a], y[b] - y[a]) >= TOL.eps
+    gap = np.hypot(x[b] - x[a], y[b] - y[a])
+    keep &= gap >= TOL.eps
+    if math.isfinite(bound):
+        to, back = _reach(sc, x, y, r)
+        keep &= to[a] + np.maximum(gap - r[a] - r[b], 0.0) + back[b] <= bound
     a, b = a[keep], b[keep]
     one, zero = np.ones(a.size), np.zeros(a.size)
     t = g.tangent(x[a], y[a], r[a], sg[a], x[b], y[b], r[b], sg[b], one, zero, TOL.eps)
     ends = (t.p1x, t.p1y, t.p2x, t.p2y)
     no_obstacles = col.obstacles(np.zeros((0, 2)), np.zeros(0), ndim=1)
-    alive = np.flatnonzero(col.segment_violations(ends, t.exists, no_obstacles, sa.bounds,
-                                                  TOL.length, "full") == 0)
+    clear = col.segment_violations(ends, t.exists, no_obstacles, sa.bounds, TOL.length,
+                                   "full") == 0
+    if math.isfinite(bound):  # the same bound through the tangent's own touch points
+        clear &= (np.hypot(t.p1x - sc.start[0], t.p1y - sc.start[1]) + t.length
+                  + np.hypot(t.p2x - sc.goal[0], t.p2y - sc.goal[1]) <= bound)
+    alive = np.flatnonzero(clear)
     centres, radii = np.asarray(sa.centres), np.asarray(sa.model_radii)
     if centres.size:
         mid = np.array([np.mean(x), np.mean(y)])
@@ -142,22 +167,47 @@ def _tangents(sc: Scenario, circ):
         t.length[alive]
 
 
+def _arcs_clear(circ, c, arc, sa) -> np.ndarray:
+    """Which arcs (on circles ``c``, ``arc = (ax, ay, bx, by, sweep)``) have no violation
+    under the full rule of :func:`hga_jax.model.collision.arc_violations`: in the field,
+    clear of every obstacle but their circle's own. Each arc is tested only against the
+    obstacles that can reach its circle (:func:`hga_jax.model.collision.arc_candidates`'
+    criterion), which gives the same answer."""
+    x, y, r, sg, own = (v[c] for v in circ)
+    ok = ~col.arc_leaves_field((x, y, r, sg), arc, sa.bounds, TOL.length)
+    centres, radii = np.asarray(sa.centres), np.asarray(sa.model_radii)
+    if not centres.size:
+        return ok
+    circles = np.unique(c)
+    cx, cy, cr = (v[circles] for v in circ[:3])
+    d = np.hypot(cx[:, None] - centres[:, 0], cy[:, None] - centres[:, 1])
+    near = np.abs(d - cr[:, None]) <= radii + 1e-3  # (circles, n)
+    i, j = np.nonzero(near[np.searchsorted(circles, c)])
+    ax, ay, bx, by, swp = (v[i] for v in arc)
+    hit = col.arc_hits(x[i], y[i], r[i], ax, ay, bx, by, swp, sg[i], centres[j, 0],
+                       centres[j, 1], radii[j], TOL.length) & (own[i] != j)
+    ok[i[hit]] = False
+    return ok
+
+
 def _sweep_between(circ, c, ax, ay, bx, by):
     x, y, _, sg, _ = circ
     return g.sweep(ax - x[c], ay - y[c], bx - x[c], by - y[c], sg[c], TOL.angle)
 
 
-def build(sc: Scenario):
+def build(sc: Scenario, bound: float = math.inf):
     """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.exact._Graph`):
     nodes are the start and goal points (0, 1 and 2, 3, as in the tight-rope graph)
     and the touch points of every feasible tangent; arcs join consecutive nodes of
     each circle in its direction (all the way round), the start point to the first
-    node after it and the last node before the goal point to it."""
-    from .exact import _Graph, _arc_ok
+    node after it and the last node before the goal point to it. With a finite
+    ``bound`` (m) the graph leaves out the circles and tangents that no path shorter
+    than ``bound`` can use (:func:`circles`, :func:`_tangents`)."""
+    from .exact import _Graph
 
-    circ = x, y, r, sg, own = circles(sc)
+    circ = x, y, r, sg, own = circles(sc, bound)
     sa = sc.arrays(np.float64)
-    S, T, p1x, p1y, p2x, p2y, tlen = _tangents(sc, circ)
+    S, T, p1x, p1y, p2x, p2y, tlen = _tangents(sc, circ, bound)
     e = S.size
     st, gl = sa.start, sa.goal
     nx = np.concatenate([[st[0]] * 2, [gl[0]] * 2, p1x, p2x])
@@ -195,7 +245,7 @@ def build(sc: Scenario):
     a, b = np.concatenate(a).astype(np.int64), np.concatenate(b).astype(np.int64)
     ac = ncirc[a]
     swp = _sweep_between(circ, ac, nx[a], ny[a], nx[b], ny[b])
-    aok = _arc_ok(circ, ac, nx[a], ny[a], nx[b], ny[b], swp, sa, "full")
+    aok = _arcs_clear(circ, ac, (nx[a], ny[a], nx[b], ny[b], swp), sa)
     a, b, ac, swp = a[aok], b[aok], ac[aok], swp[aok]
     tie = (swp < TOL.angle) & (a > 3) & (b > 3)
     nt, tan = int(tie.sum()), np.arange(e) + 4
@@ -225,14 +275,16 @@ def _arc_circles(gr, edges: list[int]) -> list[int]:
     return out
 
 
-def shortest(sc: Scenario):
+def shortest(sc: Scenario, bound: float = math.inf):
     """The free-turn optimum of ``sc``: ``(length, segments, touched, free_arcs)``, with
-    ``length`` inf and empty lists when no path exists. Segments are those of the
+    ``length`` inf and empty lists when no path exists (or, with a finite ``bound`` in
+    metres, none shorter than it: pass a known path's length, such as the tight-rope
+    optimum's, a little raised). Segments are those of the
     result files; an arc on a free circle carries ``"free": true``. ``touched``: the
     ``(obstacle from 0, label)`` model circles the path turns on, in travel order."""
     from .exact import _search, _walk
 
-    gr = build(sc)
+    gr = build(sc, bound)
     gx, gy = float(sc.goal[0]), float(sc.goal[1])
     h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
     length, edges, _ = _search(gr, h, distinct=False)
