@@ -89,6 +89,20 @@ def run_range(seed: Any, runs: Any, first_run: Any, chunk: Any, source: str,
     integer(1 if chunk is None else chunk, source, name("chunk"), *CHUNK, grouped=grouped)
 
 
+TURNS = ("tight-rope", "free")
+
+
+def turns(value: Any, collision: str, source: str, key: str = "turns") -> str:
+    """The model of turns (``"tight-rope"`` or ``"free"``; free turns only under the full
+    collision test, whose arcs are judged against the obstacles)."""
+    if value not in TURNS:
+        raise error(source, key, f"must be one of {', '.join(TURNS)}, got {value!r}")
+    if value == "free" and collision != "full":
+        raise error(source, key, "free turns need the full collision test (the paper's "
+                    f"judges no arc against an obstacle), got collision {collision!r}")
+    return value
+
+
 def strings(value: Any, source: str, key: str) -> list[str]:
     """``value`` if it is a list of non-empty strings (a TOML array), else a ConfigError."""
     if not isinstance(value, list) or not all(isinstance(s, str) and s for s in value):

@@ -8,6 +8,7 @@ turn to confirm that it ends at the goal pose.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -279,4 +280,52 @@ def test_exact_command_with_free_turns(tmp_path, capsys):
     code = main(["exact", str(path), "--turns", "free", "--collision", "paper",
                  "--out", str(tmp_path / "p")])
     err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(err) == 1 and "collision" in err[0] and "loop.toml" in err[0]
+    assert code == 2 and len(err) == 1 and "collision" in err[0] and "--turns" in err[0]
+    assert not (tmp_path / "p").exists()
+
+
+def test_run_measures_gaps_against_the_free_turn_optimum(tmp_path):
+    from hga_jax import run_many, write_run
+    from hga_jax.host.report import run_summary
+
+    sc = _loop_scene()
+    res = run_many(sc, "paper", runs=4, seed=3, turns="free")
+    tight = solve(sc).length
+    assert res.optimum.turns == "free" and res.optimum_length < 0.7 * tight
+    assert not res.hit.any() and (res.gap[res.feasible] > 0.4).all()
+    s = res.summary()
+    assert s["optimum_turns"] == "free" and s["tight_rope_length"] == tight
+    text = run_summary(res)
+    assert "free-turn optimum" in text and f"tight-rope optimum {tight:.6f} m" in text
+    with pytest.raises(Exception, match="full collision"):
+        run_many(sc, dataclasses.replace(res.settings, collision="paper"), turns="free")
+
+
+def test_a_study_can_take_the_free_turn_optimum_as_its_yardstick(tmp_path):
+    from hga_jax.errors import ConfigError
+    from hga_jax.study.config import load_study
+    from hga_jax.study.run import run_study
+    from hga_jax.study.scenes import to_toml
+
+    d = pose_scene((0.0, 0.0, 0.0), (0.1, 0.05, math.pi), obstacles=[
+        {"x": 0.6, "y": 0.0, "radius": 0.05}])
+    (tmp_path / "loop.toml").write_text(to_toml(d))
+    text = ('name = "free_yard"\nseed = 1\nruns = 3\nscenarios = ["loop.toml"]\n'
+            'yardstick = "free"\n[ga]\ngenerations = 3\n[[configs]]\nlabel = "paper"\n')
+    (tmp_path / "s.toml").write_text(text)
+    out = run_study(str(tmp_path / "s.toml"), out=str(tmp_path / "o"), progress=False)
+    assert out.cells_run == 1
+    md = (tmp_path / "o" / "summary.md").read_text()
+    assert "free-turn optimum" in md
+    import json
+    cell = json.loads(next((tmp_path / "o" / "cells").iterdir()).read_text())
+    tight = solve(scenario_from_dict(d, "loop")).length
+    assert cell["yardstick"] == "free" and cell["tight_rope_optimum"] == pytest.approx(tight)
+    assert cell["optimum"] < 0.7 * tight and not any(cell["columns"]["hit"])
+    assert run_study(str(tmp_path / "s.toml"), out=str(tmp_path / "o"), progress=False).cells_run == 0
+    (tmp_path / "bad.toml").write_text(text.replace('"free"', '"loose"'))
+    with pytest.raises(ConfigError, match=r"bad\.toml: yardstick: must be one of"):
+        load_study(str(tmp_path / "bad.toml"))
+    (tmp_path / "paper.toml").write_text(text + 'collision = "paper"\n')
+    with pytest.raises(ConfigError, match="yardstick: free turns need the full collision"):
+        load_study(str(tmp_path / "paper.toml"))

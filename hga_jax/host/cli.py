@@ -129,6 +129,10 @@ def _parser() -> argparse.ArgumentParser:
     devices.add_option(run)
     run.add_argument("--no-exact", action="store_true",
                      help="skip the exact optimum and the gaps to it")
+    run.add_argument("--turns", choices=("tight-rope", "free"), default="tight-rope",
+                     help="the model of the optimum the gaps are measured against: "
+                     "tight-rope (the paper's, which the GA searches) or free (the car's "
+                     "shortest path, with turns in free space; see hga-jax exact --turns)")
     _output_args(run, "results/<scenario file name>")
     d = run.add_argument_group(
         "several processes", "one job over several processes (JAX's multi-process runtime): "
@@ -318,7 +322,7 @@ def _cmd_run(args) -> int:
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet,
-                   preset=args.preset)
+                   preset=args.preset, turns=args.turns)
     res.plugins = tuple(plugins)
     if jax.process_index() != 0:  # process 0 writes and prints the result
         return 0
@@ -336,9 +340,7 @@ def _cmd_exact(args) -> int:
     _plugins(args)
     scenario = load_scenario(args.scenario)
     collision = args.collision or _settings(scenario, None, {}).collision
-    if args.turns == "free" and collision != "full":
-        raise ConfigError(f"{args.scenario}: collision: free turns need the full collision "
-                          f"test, got {collision!r}")
+    validation.turns(args.turns, collision, "command line", "--turns")
     out = args.out or _default_out(args.scenario, "-exact")
     from .output import check_folder
 

@@ -96,8 +96,9 @@ def run_summary(res: RunsResult) -> str:
         f"{count(runs, 'run')}, median generation first reached {med:g}",
     ]
     if "optimum_length" in s:
+        what = "free-turn optimum" if s.get("optimum_turns") == "free" else "optimum"
         lines.append(
-            f"optimum {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
+            f"{what} {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
             f"({s['runs_hit']:,} of {count(runs, 'run')}); gap over the "
             f"{count(s['feasible_runs'], 'feasible run')}: "
             + (f"median {pct(s['gap_median'])}, mean {pct(s['gap_mean'])}, "
@@ -108,7 +109,11 @@ def run_summary(res: RunsResult) -> str:
                                     "within 1%") + "; "
                      + _generations(s["median_generation_hit"], s["runs_hit"], "the hit"))
         opt = res.optimum
-        if not opt.expressible:
+        if opt.turns == "free":
+            lines.append("the optimum is the free-turn one (turns in free space too), which "
+                         "the GA's tight-rope paths cannot reach where it is shorter; "
+                         + _tight_rope_line(opt))
+        elif not opt.expressible:
             alt = opt.best_expressible
             lines.append("the optimal walk touches an obstacle twice, which no chromosome "
                          "expresses; best chromosome path "

@@ -114,6 +114,9 @@ class RunsResult:
         if self.optimum_length is not None:
             gap = self.gap[self.feasible]  # infeasible runs are counted, not averaged
             near = self.first_generation_within(NEAR_GAP)
+            if getattr(self.optimum, "turns", "tight-rope") == "free":
+                out.update({"optimum_turns": "free",
+                            "tight_rope_length": self.optimum.tight_rope_length})
             out.update({
                 "optimum_length": self.optimum_length,
                 "hit_rate": float(self.hit.mean()),

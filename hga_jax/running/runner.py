@@ -106,7 +106,7 @@ _DEVICES = "devices"  # the mesh axis the runs of a batch are split over
 def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, seed: int = 0,
              runs: int = 1, first_run: int = 0, chunk: int | None = None,
              exact: bool = True, progress: bool = False,
-             preset: str | None = None) -> RunsResult:
+             preset: str | None = None, turns: str = "tight-rope") -> RunsResult:
     """Runs ``first_run .. first_run + runs - 1`` of ``seed`` on ``scenario``.
 
     ``settings`` defaults to the scenario's ``[ga]`` table over the paper's
@@ -118,6 +118,11 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     the job within a block (:class:`~hga_jax.errors.Interrupted`); ``progress``
     shows a bar of generations on stderr. ``preset``: the name of the preset the
     settings were built on (:data:`hga_jax.search.settings.PRESETS`), recorded in the result.
+    ``turns``: the model the optimum is solved in, the yardstick of the gaps:
+    ``"tight-rope"`` (the paper's, which the GA searches) or ``"free"`` (the car's
+    shortest path, :mod:`hga_jax.model.free_turns`; the full collision test only). The
+    GA searches the tight-rope model either way, so under ``"free"`` a gap shows how
+    far its paths are from the car's shortest.
 
     In a multi-process job (after :func:`hga_jax.running.distributed.initialize`) every
     process makes the same call: each searches its share of the runs on its own
@@ -130,6 +135,7 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
+    validation.turns(turns, settings.collision if exact else "full", "run_many")
     budget_rule = settings.budget(scenario.n)
     settings = settings.for_obstacles(scenario.n)
     validation.run_range(seed, runs, first_run, chunk, "run_many")
@@ -155,7 +161,7 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     pool = np.flatnonzero(violations == 0) if np.any(violations == 0) else np.arange(runs)
     top = int(pool[np.argmax(score[pool])])
     best_path = evaluate_path(scenario, found.perm[top], found.labels[top], settings.collision)
-    optimum = solve(scenario, settings.collision) if exact else None
+    optimum = solve(scenario, settings.collision, turns=turns) if exact else None
     return RunsResult(
         scenario=scenario, settings=settings, seed=seed,
         run_ids=np.arange(first_run, first_run + runs),

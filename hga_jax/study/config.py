@@ -8,6 +8,7 @@ A study file holds (paths are relative to the file)::
     scenarios = ["../scenarios/robocup_paper.toml"]   # optional scene files
     plugins = ["my_operators.py"] # optional: Python files imported first
     analyses = ["paper"]          # optional extra reports: paper, penalty, scaling
+    yardstick = "tight-rope"      # the optimum the gaps are taken to: tight-rope or free
     [ga]                          # settings shared by every configuration
     [[families]]                  # optional generated scenes (see scenes.py)
     name = "clutter"; kind = "clutter"; obstacles = [5, 9, 15]; scenes = 10; seed = 1
@@ -33,7 +34,7 @@ from hga_jax import validation
 from hga_jax.search.settings import GASettings
 
 TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses", "ga",
-       "families", "configs", "quick"}
+       "families", "configs", "quick", "yardstick"}
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
 KINDS = ("clutter", "obstructed", "clusters")
@@ -71,6 +72,7 @@ class Study:
     analyses: list[str] = field(default_factory=list)
     description: str = ""
     quick: bool = False
+    yardstick: str = "tight-rope"
 
 
 _err = validation.error
@@ -209,5 +211,8 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
                 if any(c.label == o.label for o in configs):
                     raise _err(source, f"{key}[{i}]", f"two configurations named {c.label!r}")
                 configs.append(c)
+    yardstick = data.get("yardstick", "tight-rope")
+    for c in configs:  # free turns need the full collision test in every configuration
+        validation.turns(yardstick, c.settings.collision, source, "yardstick")
     return Study(name, source, seed, runs, scen, families, configs, plugins, analyses,
-                 str(data.get("description", "")), quick)
+                 str(data.get("description", "")), quick, yardstick)
