@@ -1,0 +1,101 @@
+"""How often free turns beat the tight rope, by how much, and what a leg gene could express.
+
+For each scene the exact tight-rope optimum and the exact free-turn optimum
+(``solve(scene, turns="free")``) are compared. A free arc counts as *joined* when the
+path changes circle at both its ends (an arc on each side, no straight between): that
+is what a chromosome with one gene per leg ("straight, or a free circle of radius rho
+touching both neighbouring circles, on one side or the other") can express. A path is
+expressible when every free arc on it is joined.
+
+Scenes: the studies' generators (random, obstructed, clusters) at 9, 15 and 25
+obstacles, and ``near``: the RoboCup field with uniform obstacles and a goal pose
+within 5 rho of the start (the distances where turn-turn-turn Dubins words win).
+
+Usage: ``python experiments/free_turns_share.py [--scenes 20] [--seed 7]``.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+import numpy as np
+
+from hga_jax import ConfigError, scenario_from_dict
+from hga_jax.model.exact import solve
+from hga_jax.study.scenes import generate
+
+FIELD = {"xmin": 0.0, "xmax": 2.8, "ymin": 0.0, "ymax": 2.3, "keep_inside": True}
+
+
+def near_scene(rng: np.random.Generator, n: int, name: str) -> dict:
+    """Uniform obstacles on the RoboCup field, start and goal poses 0-5 rho apart."""
+    rho, robot = 0.15, 0.09
+    while True:
+        sx, sy = rng.uniform(0.5, 2.3), rng.uniform(0.5, 1.8)
+        r, b = rng.uniform(0.0, 5.0) * rho, rng.uniform(-math.pi, math.pi)
+        gx, gy = sx + r * math.cos(b), sy + r * math.sin(b)
+        obstacles = []
+        while len(obstacles) < n:
+            x, y = rng.uniform(0.2, 2.6), rng.uniform(0.2, 2.1)
+            if min(math.hypot(x - sx, y - sy), math.hypot(x - gx, y - gy)) > 0.3:
+                obstacles.append({"x": x, "y": y, "radius": robot})
+        d = {"name": name, "robot": {"radius": robot, "min_turn_radius": rho},
+             "start": {"x": sx, "y": sy, "heading_deg": rng.uniform(-180, 180)},
+             "goal": {"x": gx, "y": gy, "heading_deg": rng.uniform(-180, 180)},
+             "obstacles": obstacles, "field": FIELD}
+        if not (0.3 < gx < 2.5 and 0.3 < gy < 2.0):
+            continue
+        try:
+            scenario_from_dict(d, name)
+        except ConfigError:  # a pose too close to an obstacle: draw again
+            continue
+        return d
+
+
+def joined(segments: list[dict]) -> tuple[int, int]:
+    """(free arcs, free arcs with a change of circle at both ends)."""
+    free = ok = 0
+    for i, s in enumerate(segments):
+        if not s.get("free"):
+            continue
+        free += 1
+        before = segments[i - 1]["type"] == "arc" if i > 0 else True
+        after = segments[i + 1]["type"] == "arc" if i + 1 < len(segments) else True
+        ok += before and after
+    return free, ok
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scenes", type=int, default=20)
+    ap.add_argument("--seed", type=int, default=7)
+    args = ap.parse_args()
+    rng = np.random.default_rng(args.seed)
+    print("family       n  scenes  shorter  median saving  expressible  free ms  tight ms")
+    for kind in ("near", "random", "obstructed", "clusters"):
+        for n in (9, 15, 25):
+            shorter, saving, expressible, tf, tt = 0, [], 0, [], []
+            for i in range(args.scenes):
+                d = (near_scene(rng, n, f"near{n}_{i}") if kind == "near"
+                     else generate(kind, n, args.seed, i, f"{kind}{n}_{i}"))
+                sc = scenario_from_dict(d, d["name"])
+                t0 = time.perf_counter()
+                free = solve(sc, turns="free")
+                tf.append(free.seconds)
+                tt.append(time.perf_counter() - t0 - free.seconds)
+                tight = free.tight_rope_length
+                if free.free_arcs and math.isfinite(tight):
+                    shorter += 1
+                    saving.append(1.0 - free.length / tight)
+                    arcs, ok = joined(free.segments)
+                    expressible += arcs == ok
+            med = f"{100 * statistics.median(saving):5.1f}%" if saving else "    -"
+            print(f"{kind:11s} {n:3d} {args.scenes:7d} {shorter:8d} {med:>14s} "
+                  f"{expressible:>8d}/{shorter:<3d} {1e3 * statistics.median(tf):8.1f} "
+                  f"{1e3 * statistics.median(tt):8.1f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
