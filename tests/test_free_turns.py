@@ -329,3 +329,30 @@ def test_a_study_can_take_the_free_turn_optimum_as_its_yardstick(tmp_path):
     (tmp_path / "paper.toml").write_text(text + 'collision = "paper"\n')
     with pytest.raises(ConfigError, match="yardstick: free turns need the full collision"):
         load_study(str(tmp_path / "paper.toml"))
+
+
+WALLS = {"xmin": 0.0, "xmax": 2.8, "ymin": 0.0, "ymax": 2.3, "keep_inside": True}
+
+
+@pytest.mark.parametrize("q0, q1, tight_feasible", [
+    ((0.2916205192563336, 0.5715561548830335, 1.473891711134418),
+     (0.3445059186125689, 0.5284886189003957, 0.10518166948605545), True),
+    ((0.29486555656721924, 1.4220862708320046, 1.387152451979829),
+     (0.29211857783247897, 1.4289117753871088, -0.4135617734543251), False),
+])
+def test_a_free_loop_held_by_a_wall(q0, q1, tight_feasible):
+    """Poses near the field's edge: the loop that turns the car round is pinned by the
+    wall (its centre rho from the shrunk field), so the path is longer than the Dubins
+    distance but shorter than any tight rope (or the only feasible path at all)."""
+    sc = scenario_from_dict(pose_scene(q0, q1, field=WALLS), "wall")
+    free = solve(sc, turns="free")
+    check_path(sc, free.segments, free.length)
+    assert free.length > dubins(sc.start, sc.goal, RHO)[0] + 1e-3
+    assert math.isfinite(free.tight_rope_length) == tight_feasible
+    if tight_feasible:
+        assert free.length < free.tight_rope_length - 1e-3
+    b = sc.bounds
+    held = [min(abs(s["center"][0] - b[0]), abs(b[1] - s["center"][0]),
+                abs(s["center"][1] - b[2]), abs(b[3] - s["center"][1])) - RHO
+            for s in free.segments if s.get("free")]
+    assert held and min(abs(h) for h in held) < 1e-9
