@@ -157,7 +157,7 @@ def _same_heading(a, b):
 
 
 
-@settings(max_examples=40)  # each example compiles its own scene size
+@settings(max_examples=24)  # each example compiles its own scene size
 @given(scenes_and_chromosomes())
 def test_paths_are_finite_continuous_and_end_at_the_goal(case):
     sc, perm, labels = case

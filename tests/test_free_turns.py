@@ -276,6 +276,12 @@ def test_exact_command_with_free_turns(tmp_path, capsys):
     assert data["summary"]["free_to_tight_rope"] < 0.7
     assert [s for s in data["optimum"]["segments"] if s.get("free")]
     assert (out / "path.png").stat().st_size > 10_000
+    assert data["best"]["feasible"] and data["best"]["upper"] is None  # no chromosome
+    from hga_jax.host.report import redraw
+
+    fig = redraw(str(out / "result.json"))
+    assert [ln for ln in fig.axes[0].lines if ln.get_gid() == "free_arc"]
+    assert "no feasible path" not in fig.axes[0].get_title()
     capsys.readouterr()
     code = main(["exact", str(path), "--turns", "free", "--collision", "paper",
                  "--out", str(tmp_path / "p")])

@@ -241,6 +241,10 @@ def write_run(res: RunsResult, out: str, plot: bool = False, force: bool = False
 def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
     """result.json of ``hga-jax exact``: the run schema with the optimum as best path."""
     path = opt.path.to_dict() if opt.feasible and opt.path is not None else None
+    if path is None and opt.feasible and opt.turns == "free":  # free arcs: no chromosome
+        path = {"length": opt.length, "feasible": True, "violations": 0, "upper": None,
+                "lower": None, "touched": touch_list(opt.touched), "segments": opt.segments,
+                "violations_at": []}
     return result_document(scenario, {
         "seed": None, "runs": None, "settings": {"collision": opt.collision, "turns": opt.turns},
         "best": path, "optimum": optimum_dict(opt),
@@ -315,7 +319,8 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
     st = GASettings(**st_keys) if "population" in st_keys else None
     if run is None:
         best = data["best"]
-        what = "optimum" if st is None else f"best (run {best.get('run')})"
+        what = (("free-turn optimum" if st_keys.get("turns") == "free" else "optimum")
+                if st is None else f"best (run {best.get('run')})")
         if best is None:
             segs, touched, where, length, viol = [], [], [], None, None
         else:
