@@ -362,3 +362,32 @@ def test_a_free_loop_held_by_a_wall(q0, q1, tight_feasible):
                 abs(s["center"][1] - b[2]), abs(b[3] - s["center"][1])) - RHO
             for s in free.segments if s.get("free")]
     assert held and min(abs(h) for h in held) < 1e-9
+
+
+def test_free_legs_express_every_dubins_word():
+    """A chromosome with one gene per leg (straight, or a free circle touching both
+    neighbours) reaches the Dubins distance between any two poses."""
+    from hga_jax.model import free_legs
+
+    for q0, q1 in _pairs(400, 5):
+        sc = scenario_from_dict(pose_scene(q0, q1), "pair")
+        length, segs, _, _ = free_legs.shortest(sc)
+        assert abs(length - dubins(sc.start, sc.goal, RHO)[0]) <= 1e-9 * RHO
+        check_path(sc, segs, length)
+
+
+@pytest.mark.parametrize("family", ["grid", "random"])
+def test_free_legs_lie_between_the_two_optima(family):
+    from hga_jax.model import free_legs
+
+    for i, d in enumerate(_families.scenes(family, 31, 6)):
+        sc = scenario_from_dict(d, f"{family}{i}")
+        free = solve(sc, turns="free")
+        length, segs, _, arcs = free_legs.shortest(sc)
+        assert free.length <= length + 1e-9 and length <= free.tight_rope_length + 1e-9
+        if math.isfinite(length):
+            check_path(sc, segs, length)
+        if arcs:  # only a free leg beats the tight rope
+            assert length < free.tight_rope_length
+    legs = free_legs.table(_loop_scene())
+    assert legs.S.size and np.all(legs.sign == -np.asarray(_loop_scene().circles()[3])[legs.S])

@@ -196,18 +196,28 @@ def _sweep_between(circ, c, ax, ay, bx, by):
 
 
 def build(sc: Scenario, bound: float = math.inf):
-    """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.exact._Graph`):
-    nodes are the start and goal points (0, 1 and 2, 3, as in the tight-rope graph)
-    and the touch points of every feasible tangent; arcs join consecutive nodes of
-    each circle in its direction (all the way round), the start point to the first
-    node after it and the last node before the goal point to it. With a finite
-    ``bound`` (m) the graph leaves out the circles and tangents that no path shorter
-    than ``bound`` can use (:func:`circles`, :func:`_tangents`)."""
+    """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.exact._Graph`, by
+    :func:`graph`) over every circle of :func:`circles` and every feasible tangent
+    between them. With a finite ``bound`` (m) it leaves out the circles and tangents
+    that no path shorter than ``bound`` can use (:func:`circles`, :func:`_tangents`)."""
+    circ = circles(sc, bound)
+    return graph(sc, circ, _tangents(sc, circ, bound))
+
+
+def graph(sc: Scenario, circ, pieces, enter=None):
+    """A tangent graph over the circles ``circ`` (``(x, y, r, sign, own)``) from its
+    straight ``pieces`` ``(S, T, p1x, p1y, p2x, p2y, length)`` (feasible, from circle S at
+    P1 to circle T at P2; any length, so a piece may stand for a curve). Nodes are the
+    start and goal points (0, 1 and 2, 3, as in the tight-rope graph) and both ends of
+    every piece; arcs join consecutive nodes of each circle in its direction (all the
+    way round; feasible ones only), the start point to the first node after it and the
+    last node before the goal point to it. ``enter``: per piece the obstacle it enters
+    (for a search that enters each obstacle once), else -1."""
     from .exact import _Graph
 
-    circ = x, y, r, sg, own = circles(sc, bound)
+    x, y, r, sg, own = circ
     sa = sc.arrays(np.float64)
-    S, T, p1x, p1y, p2x, p2y, tlen = _tangents(sc, circ, bound)
+    S, T, p1x, p1y, p2x, p2y, tlen = pieces
     e = S.size
     st, gl = sa.start, sa.goal
     nx = np.concatenate([[st[0]] * 2, [gl[0]] * 2, p1x, p2x])
@@ -256,8 +266,10 @@ def build(sc: Scenario, bound: float = math.inf):
     eswp = np.concatenate([np.zeros(e), swp, np.zeros(nt)])
     srt = np.argsort(es, kind="stable")
     indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
+    eent = np.concatenate([np.full(e, -1) if enter is None else enter,
+                           np.full(a.size + nt, -1)])
     return _Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
-                  [-1] * es.size, es[srt], earc[srt], eswp[srt])
+                  eent[srt].tolist(), es[srt], earc[srt], eswp[srt])
 
 
 def _arc_circles(gr, edges: list[int]) -> list[int]:

@@ -1,0 +1,116 @@
+"""Free legs: the free turns that a chromosome with one gene per leg can express.
+
+A tight-rope chromosome lists the circles a path turns on; between two of them it
+runs straight. A *free leg* runs instead over a free circle of radius rho that
+touches both circles from outside, the path changing circle at both contact points
+(so the free circle turns the other way, and both circles must turn the same way).
+There are two such circles, one on each side of the line between the centres
+(``side`` 0 on the left of ``a -> c``, 1 on the right). A chromosome with a gene per
+leg (straight, or free on side 0 or 1) expresses the turn-turn-turn Dubins words and
+every free loop that touches its neighbours, but not a free circle held by an
+obstacle or a wall that it does not turn on (:mod:`hga_jax.model.free_turns`).
+
+:func:`table` lists every feasible free leg of a scenario; :func:`shortest` finds
+the best path of that chromosome space exactly (each obstacle touched at most once,
+as a chromosome does), so that the share of free-turn optima it reaches can be
+measured. Host code (numpy, float64); metres and radians.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from hga_jax.model import geometry as g
+from . import free_turns
+from .scenario import Scenario
+
+TOL = g.tolerances(np.float64)
+
+
+class FreeLegs(NamedTuple):
+    """Feasible free legs, one row each: from circle ``S`` to circle ``T`` (ids of
+    :mod:`hga_jax.model.tangents`) on ``side``; the free circle's centre ``(fx, fy)``
+    and orientation ``sign``, the contact points ``P1`` on S and ``P2`` on T, and the
+    free arc's sweep (rad) from P1 to P2."""
+
+    S: np.ndarray
+    T: np.ndarray
+    side: np.ndarray
+    fx: np.ndarray
+    fy: np.ndarray
+    sign: np.ndarray
+    p1x: np.ndarray
+    p1y: np.ndarray
+    p2x: np.ndarray
+    p2y: np.ndarray
+    sweep: np.ndarray
+
+
+def table(sc: Scenario) -> FreeLegs:
+    """Every free leg of ``sc`` whose free arc is clear (obstacles, field): from a start
+    or obstacle circle to an obstacle or goal circle of the same orientation, never
+    between one obstacle's two circles."""
+    x, y, r, sg, own = sc.circles(np.float64)
+    rho, c = float(sc.min_turn_radius), x.size
+    src, dst = np.r_[0, 1, 4:c], np.r_[4:c, 2, 3]
+    a, b = (m.ravel() for m in np.meshgrid(src, dst, indexing="ij"))
+    keep = (sg[a] == sg[b]) & ~((own[a] == own[b]) & (own[a] >= 0))
+    a, b = a[keep], b[keep]
+    fx, fy, k = free_turns._pair_centres(x[a], y[a], r[a] + rho, x[b], y[b], r[b] + rho)
+    side = (np.arange(fx.size) >= fx.size // 2).astype(np.int32)  # + solution first: left
+    a, b = a[k], b[k]
+    fs = -sg[a]
+
+    def contact(i):  # the point of circle i on the way to the free circle's centre
+        return (x[i] + r[i] * (fx - x[i]) / (r[i] + rho),
+                y[i] + r[i] * (fy - y[i]) / (r[i] + rho))
+
+    (p1x, p1y), (p2x, p2y) = contact(a), contact(b)
+    swp = g.sweep(p1x - fx, p1y - fy, p2x - fx, p2y - fy, fs, TOL.angle)
+    circ = (fx, fy, np.full(fx.size, rho), fs, np.full(fx.size, -1))
+    ok = free_turns._arcs_clear(circ, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp),
+                                sc.arrays(np.float64))
+    return FreeLegs(*(v[ok] for v in (a, b, side, fx, fy, fs, p1x, p1y, p2x, p2y, swp)))
+
+
+def shortest(sc: Scenario):
+    """The best path a chromosome with free legs expresses: ``(length, segments, touched,
+    free_arcs)`` as :func:`hga_jax.model.free_turns.shortest` (inf and empty lists when
+    none is feasible or the label budget of the search runs out)."""
+    from .exact import _search, _tangents, _walk
+
+    sa = sc.arrays(np.float64)
+    circ = sc.circles(np.float64)
+    S, T, t, ok, _ = _tangents(sa, True)
+    legs = table(sc)
+    rho = float(sc.min_turn_radius)
+    e = int(ok.sum())
+    pieces = (np.r_[S[ok], legs.S], np.r_[T[ok], legs.T], np.r_[t.p1x[ok], legs.p1x],
+              np.r_[t.p1y[ok], legs.p1y], np.r_[t.p2x[ok], legs.p2x], np.r_[t.p2y[ok], legs.p2y],
+              np.r_[t.length[ok], rho * legs.sweep])
+    gr = free_turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]])
+    h = np.hypot(gr.nx - float(sc.goal[0]), gr.ny - float(sc.goal[1])).tolist()
+    length, edges, _ = _search(gr, h, distinct=True)
+    if not edges:
+        return math.inf, [], [], 0
+    circs, segs = _walk(gr, edges)
+    lines = iter(i for i, s in enumerate(segs) if s["type"] == "line")
+    free = 0
+    for k in edges:
+        u = int(gr.src[k])
+        if gr.arc_circle[k] >= 0 or gr.w[k] <= 0.0:
+            continue
+        i = next(lines)
+        if 4 + e <= u < 4 + len(pieces[0]):  # a free leg: an arc on its free circle
+            j = u - 4 - e
+            segs[i] = {"type": "arc", "center": [float(legs.fx[j]), float(legs.fy[j])],
+                       "radius": rho, "sweep": float(-legs.sign[j] * legs.sweep[j]),
+                       "start_angle": float(math.atan2(legs.p1y[j] - legs.fy[j],
+                                                       legs.p1x[j] - legs.fx[j])),
+                       "free": True}
+            free += 1
+    own, sg = circ[4], circ[3]
+    touched = [(int(own[c]), int(sg[c])) for c in circs if c >= 4]
+    return float(length), segs, touched, free
