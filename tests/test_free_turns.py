@@ -11,15 +11,14 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import _families
 import numpy as np
 import pytest
 
 from hga_jax import scenario_from_dict
 from hga_jax.errors import ModelMismatchError
-from hga_jax.model import free_turns
+from hga_jax.model import free_circles, free_turns
 from hga_jax.model.exact import solve
-
-import _families
 
 TWO_PI = 2.0 * math.pi
 RHO = 0.15
@@ -162,7 +161,7 @@ def test_pure_dubins_matches_the_closed_form_on_3000_pairs():
     for q0, q1 in _pairs(3000, 1):
         sc = scenario_from_dict(pose_scene(q0, q1), "pair")
         ref, word = dubins(sc.start, sc.goal, RHO)  # the poses as loaded (degrees round trip)
-        length, segs, touched, free = free_turns.shortest(sc)
+        length, segs, _, free = free_turns.shortest(sc)
         assert abs(length - ref) <= 1e-9 * RHO, (q0, q1, word, length, ref)
         assert (free > 0) == (word in ("RLR", "LRL")) or abs(length - ref) < 1e-12
         if checked < 300:
@@ -202,8 +201,8 @@ def _loop_scene():
 
 
 def test_a_free_loop_beats_the_tight_rope_and_is_drawn():
-    from hga_jax.host.report import exact_summary
     from hga_jax.host.plots import plot_path
+    from hga_jax.host.report import exact_summary
 
     sc = _loop_scene()
     tight, free = solve(sc), solve(sc, turns="free")
@@ -235,7 +234,7 @@ def test_tight_rope_model_is_the_default_and_unchanged():
 
 def test_free_circles_are_pinned_by_two_contacts():
     sc = _loop_scene()
-    fx, fy, fs = free_turns.free_circles(sc)
+    fx, fy, fs = free_circles.free_circles(sc)
     x, y, r, _, _ = sc.circles(np.float64)
     anchors = np.concatenate([np.stack([x[:4], y[:4], r[:4]], 1),
                               np.stack([x[4::2], y[4::2], r[4::2]], 1)])
@@ -291,7 +290,7 @@ def test_exact_command_with_free_turns(tmp_path, capsys):
 
 
 def test_run_measures_gaps_against_the_free_turn_optimum(tmp_path):
-    from hga_jax import run_many, write_run
+    from hga_jax import run_many
     from hga_jax.host.report import run_summary
 
     sc = _loop_scene()

@@ -23,7 +23,8 @@ from typing import NamedTuple
 import numpy as np
 
 from hga_jax.model import geometry as g
-from . import free_turns
+
+from . import free_circles, free_turns
 from .scenario import Scenario
 
 TOL = g.tolerances(np.float64)
@@ -58,7 +59,7 @@ def table(sc: Scenario) -> FreeLegs:
     a, b = (m.ravel() for m in np.meshgrid(src, dst, indexing="ij"))
     keep = (sg[a] == sg[b]) & ~((own[a] == own[b]) & (own[a] >= 0))
     a, b = a[keep], b[keep]
-    fx, fy, k = free_turns._pair_centres(x[a], y[a], r[a] + rho, x[b], y[b], r[b] + rho)
+    fx, fy, k = free_circles.pair_centres(x[a], y[a], r[a] + rho, x[b], y[b], r[b] + rho)
     side = (np.arange(fx.size) >= fx.size // 2).astype(np.int32)  # + solution first: left
     a, b = a[k], b[k]
     fs = -sg[a]
@@ -70,7 +71,7 @@ def table(sc: Scenario) -> FreeLegs:
     (p1x, p1y), (p2x, p2y) = contact(a), contact(b)
     swp = g.sweep(p1x - fx, p1y - fy, p2x - fx, p2y - fy, fs, TOL.angle)
     circ = (fx, fy, np.full(fx.size, rho), fs, np.full(fx.size, -1))
-    ok = free_turns._arcs_clear(circ, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp),
+    ok = free_turns.arcs_clear(circ, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp),
                                 sc.arrays(np.float64))
     return FreeLegs(*(v[ok] for v in (a, b, side, fx, fy, fs, p1x, p1y, p2x, p2y, swp)))
 
