@@ -30,22 +30,21 @@ are not joined. Units: metres and radians.
 from __future__ import annotations
 
 import dataclasses
-import heapq
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from hga_jax.errors import ModelMismatchError
+from .graph_search import MAX_LABELS, Graph, search, walk
 from .path import Path, chromosome, evaluate_path
 from .scenario import Scenario
 
 TOL = g.tolerances(np.float64)
-MAX_LABELS = 300_000  # label-setting search budget (popped labels)
 
 
 @dataclass
@@ -109,22 +108,6 @@ def _finite(x: float | None) -> float | None:
     return None if x is None or not math.isfinite(x) else x
 
 
-class _Graph(NamedTuple):
-    """Nodes (x, y, circle) and edges in CSR order (arc_circle -1 for a tangent)."""
-
-    circles: tuple[np.ndarray, ...]  # x, y, r, sign, obstacle id (-1 start/goal)
-    nx: np.ndarray  # node x (m)
-    ny: np.ndarray  # node y (m)
-    ncirc: np.ndarray  # node's circle
-    indptr: list[int]
-    dst: list[int]
-    w: list[float]
-    enter: list[int]  # obstacle a tangent edge enters, else -1
-    src: np.ndarray
-    arc_circle: np.ndarray
-    sweep: np.ndarray
-
-
 def _arc_ok(circ, c, ax, ay, bx, by, swp, sa, collision: str) -> np.ndarray:
     """Feasibility of arcs on circles ``c`` from A to B (the decoder's arc rule)."""
     x, y, r, s, own = (a[c] for a in circ)
@@ -178,7 +161,7 @@ def _arc_pairs(circ, sa, nx, ny, ncirc) -> tuple[np.ndarray, np.ndarray]:
     return a[legal], b[legal]
 
 
-def _build(sc: Scenario, collision: str) -> _Graph:
+def _build(sc: Scenario, collision: str) -> Graph:
     """The tangent graph of ``sc`` with every infeasible piece left out."""
     full, sa = collision == "full", sc.arrays(np.float64)
     circ = x, y, r, sg, obs = (*sa.tangents.circles.T, sa.tangents.obstacle)
@@ -204,75 +187,8 @@ def _build(sc: Scenario, collision: str) -> _Graph:
     eent = np.concatenate([obs[T[ok]], np.full(a.size + nt, -1)])
     srt = np.argsort(es, kind="stable")
     indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
-    return _Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
+    return Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
                   eent[srt].tolist(), es[srt], earc[srt], eswp[srt])
-
-
-def _search(gr: _Graph, h: list[float], distinct: bool) -> tuple[float, list[int], bool]:
-    """A* from the start nodes (0, 1) to a goal node (2, 3); edges of the best walk.
-
-    With ``distinct`` the state carries the set of entered obstacles (a bit mask)
-    and no obstacle is entered twice (labels dominated by a settled subset are
-    dropped). Returns ``(length, edges, complete)``; ``(inf, [], complete)`` when no walk
-    exists (``complete``) or the label budget ran out (not ``complete``).
-    """
-    indptr, dst, w, enter = gr.indptr, gr.dst, gr.w, gr.enter
-    heap = [(h[s], 0.0, s, 0, -1) for s in (0, 1)]
-    labels: list[tuple[int, int]] = []  # (edge into this label, parent label)
-    best: dict[tuple[int, int], float] = {(0, 0): 0.0, (1, 0): 0.0}
-    settled: dict[int, list[int]] = {}
-    pops = 0
-    while heap and pops < MAX_LABELS:
-        _, gc, u, m, lab = heapq.heappop(heap)
-        if gc > best[(u, m)]:
-            continue
-        if distinct:
-            done = settled.setdefault(u, [])
-            if any(s & ~m == 0 for s in done):
-                continue
-            done.append(m)
-            pops += 1
-        if 2 <= u <= 3:
-            edges = []
-            while lab >= 0:
-                edges.append(labels[lab][0])
-                lab = labels[lab][1]
-            return gc, edges[::-1], True
-        for k in range(indptr[u], indptr[u + 1]):
-            v, j, m2 = dst[k], enter[k], m
-            if distinct and j >= 0:
-                if m >> j & 1:
-                    continue
-                m2 = m | 1 << j
-            nd = gc + w[k]
-            if nd < best.get((v, m2), math.inf):
-                best[(v, m2)] = nd
-                labels.append((k, lab))
-                heapq.heappush(heap, (nd + h[v], nd, v, m2, len(labels) - 1))
-    return math.inf, [], not heap
-
-
-def _walk(gr: _Graph, edges: list[int]) -> tuple[list[int], list[dict[str, Any]]]:
-    """Oriented circles visited (in order) and docs/model.md segments of a walk."""
-    x, y, r, sg, _ = gr.circles
-    circs, segs, arc_on = [int(gr.ncirc[gr.src[edges[0]]])] if edges else [], [], -1
-    for k in edges:
-        u, v, c = int(gr.src[k]), gr.dst[k], int(gr.arc_circle[k])
-        if c < 0:
-            arc_on = -1
-            if gr.w[k] > 0.0:
-                segs.append({"type": "line", "start": [float(gr.nx[u]), float(gr.ny[u])],
-                             "end": [float(gr.nx[v]), float(gr.ny[v])]})
-        elif gr.sweep[k] > 0.0:
-            if arc_on != c:
-                segs.append({"type": "arc", "center": [float(x[c]), float(y[c])],
-                             "radius": float(r[c]), "sweep": 0.0, "start_angle": float(
-                                 np.arctan2(gr.ny[u] - y[c], gr.nx[u] - x[c]))})
-            segs[-1]["sweep"] -= float(sg[c] * gr.sweep[k])
-            arc_on = c
-        if int(gr.ncirc[v]) != circs[-1]:
-            circs.append(int(gr.ncirc[v]))
-    return circs, segs
 
 
 def _chromosome(n: int, circs: list[int], circles) -> tuple[list[int], list[int]]:
@@ -319,11 +235,11 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope"
     gr = _build(scenario, collision)
     gx, gy = float(scenario.goal[0]), float(scenario.goal[1])
     h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
-    walk_length, edges, _ = _search(gr, h, distinct=False)
+    walk_length, edges, _ = search(gr, h, distinct=False)
     if not edges:
         return ExactResult(math.inf, False, collision, math.inf, True, None, None, [], None, None,
                            seconds=time.perf_counter() - t0, message="no feasible path")
-    circs, segs = _walk(gr, edges)
+    circs, segs = walk(gr, edges)
     obs, sg = gr.circles[4], gr.circles[3]
     touched = [(int(obs[c]), int(sg[c])) for c in circs[1:-1]]
     expressible = len({o for o, _ in touched}) == len(touched)
@@ -331,10 +247,10 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope"
     length, message = walk_length, "optimal"
     spent = time.perf_counter() - t0
     if not expressible:
-        best_length, best_edges, complete = _search(gr, h, distinct=True)
+        best_length, best_edges, complete = search(gr, h, distinct=True)
         spent = time.perf_counter() - t0
         if best_edges:
-            best = evaluate_path(scenario, *_chromosome(scenario.n, _walk(gr, best_edges)[0],
+            best = evaluate_path(scenario, *_chromosome(scenario.n, walk(gr, best_edges)[0],
                                                         gr.circles), collision)
         message = ("optimal walk touches an obstacle twice: no chromosome expresses it; "
                    + ("best_expressible is the best chromosome path" if best else

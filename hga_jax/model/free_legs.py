@@ -25,6 +25,7 @@ import numpy as np
 from hga_jax.model import geometry as g
 
 from . import free_circles, free_turns
+from .graph_search import search, walk
 from .scenario import Scenario
 
 TOL = g.tolerances(np.float64)
@@ -80,7 +81,7 @@ def shortest(sc: Scenario):
     """The best path a chromosome with free legs expresses: ``(length, segments, touched,
     free_arcs)`` as :func:`hga_jax.model.free_turns.shortest` (inf and empty lists when
     none is feasible or the label budget of the search runs out)."""
-    from .exact import _search, _tangents, _walk
+    from .exact import _tangents
 
     sa = sc.arrays(np.float64)
     circ = sc.circles(np.float64)
@@ -93,10 +94,10 @@ def shortest(sc: Scenario):
               np.r_[t.length[ok], rho * legs.sweep])
     gr = free_turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]])
     h = np.hypot(gr.nx - float(sc.goal[0]), gr.ny - float(sc.goal[1])).tolist()
-    length, edges, _ = _search(gr, h, distinct=True)
+    length, edges, _ = search(gr, h, distinct=True)
     if not edges:
         return math.inf, [], [], 0
-    circs, segs = _walk(gr, edges)
+    circs, segs = walk(gr, edges)
     lines = iter(i for i, s in enumerate(segs) if s["type"] == "line")
     free = 0
     for k in edges:

@@ -13,7 +13,7 @@ middle of a path. Circles that touch are joined at their contact point by a tang
 of length exactly 0 (:func:`hga_jax.model.geometry.tangent`).
 
 :func:`build` makes the tangent graph over all these circles in the layout of
-:mod:`hga_jax.model.exact` (whose search and walk it shares); the collision rule is
+:mod:`hga_jax.model.exact` (searched by :mod:`hga_jax.model.graph_search`); the collision rule is
 always ``"full"`` (the paper's criterion judges no arc against an obstacle, which
 would let a free arc run through one). Host code (numpy, float64); metres and radians.
 """
@@ -27,6 +27,7 @@ from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
 from .free_circles import circles, reach
+from .graph_search import Graph, search, walk
 from .scenario import Scenario
 
 TOL = g.tolerances(np.float64)
@@ -102,7 +103,7 @@ def _sweep_between(circ, c, ax, ay, bx, by):
 
 
 def build(sc: Scenario, bound: float = math.inf):
-    """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.exact._Graph`, by
+    """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.graph_search.Graph`, by
     :func:`graph`) over every circle of :func:`circles` and every feasible tangent
     between them. With a finite ``bound`` (m) it leaves out the circles and tangents
     that no path shorter than ``bound`` can use (:func:`hga_jax.model.free_circles.circles`, :func:`_tangents`)."""
@@ -119,8 +120,6 @@ def graph(sc: Scenario, circ, pieces, enter=None):
     way round; feasible ones only), the start point to the first node after it and the
     last node before the goal point to it. ``enter``: per piece the obstacle it enters
     (for a search that enters each obstacle once), else -1."""
-    from .exact import _Graph
-
     x, y, r, sg, _ = circ
     sa = sc.arrays(np.float64)
     S, T, p1x, p1y, p2x, p2y, tlen = pieces
@@ -174,7 +173,7 @@ def graph(sc: Scenario, circ, pieces, enter=None):
     indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
     eent = np.concatenate([np.full(e, -1) if enter is None else enter,
                            np.full(a.size + nt, -1)])
-    return _Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
+    return Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
                   eent[srt].tolist(), es[srt], earc[srt], eswp[srt])
 
 
@@ -200,15 +199,13 @@ def shortest(sc: Scenario, bound: float = math.inf):
     optimum's, a little raised). Segments are those of the
     result files; an arc on a free circle carries ``"free": true``. ``touched``: the
     ``(obstacle from 0, label)`` model circles the path turns on, in travel order."""
-    from .exact import _search, _walk
-
     gr = build(sc, bound)
     gx, gy = float(sc.goal[0]), float(sc.goal[1])
     h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
-    length, edges, _ = _search(gr, h, distinct=False)
+    length, edges, _ = search(gr, h, distinct=False)
     if not edges:
         return float("inf"), [], [], 0
-    circs, segs = _walk(gr, edges)
+    circs, segs = walk(gr, edges)
     first_free = 2 * sc.n + 4
     arcs = iter(_arc_circles(gr, edges))
     free = 0
