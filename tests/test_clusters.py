@@ -10,7 +10,8 @@ from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.model.exact import solve
 from hga_jax.study import clusters, load_study
 from hga_jax.study.config import Family
-from hga_jax.study.scenes import FIELD_W, FIELD_H, _blocked, family_scenes, generate
+from hga_jax.study.scene_files import blocked as _blocked
+from hga_jax.study.scenes import FIELD_W, FIELD_H, family_scenes, generate
 
 CASES = [(n, seed, i) for n in (9, 15) for seed in (0, 7) for i in range(5)]
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from hga_jax.host.config import scenario_from_dict
 from hga_jax.model.exact import solve
-from . import scenes
+from . import scene_files
 
 STREAM = 0xC1A5  # last word of the seed: streams apart from those of scenes.py
 ROBOT_RADIUS = (0.05, 0.12)  # m
@@ -140,7 +140,7 @@ def _place(rng: np.random.Generator, n: int, w: float, h: float, r: float, rho: 
 
 def generate(n: int, seed: int, index: int, name: str, density: float | None = None) -> dict:
     """Scene ``index`` with ``n`` obstacles of a ``clusters`` family with ``seed``: a
-    scenario mapping (:func:`hga_jax.study.scenes.scene_dict`); ``density`` must be None."""
+    scenario mapping (:func:`hga_jax.study.scene_files.scene_dict`); ``density`` must be None."""
     if density is not None:
         raise ValueError("clusters scenes draw their own density; give none")
     rng = np.random.default_rng([seed, n, index, STREAM])
@@ -151,13 +151,13 @@ def generate(n: int, seed: int, index: int, name: str, density: float | None = N
         placed = _place(rng, n, w, h, r, rho, start, goal)
         if placed is None:
             continue
-        d = scenes.scene_dict(name, w, h, start, goal, placed[0], radii=placed[1],
+        d = scene_files.scene_dict(name, w, h, start, goal, placed[0], radii=placed[1],
                               robot_radius=r, turn_radius=rho)
         try:
             sc = scenario_from_dict(d, name)
         except ValueError:
             continue
-        if not scenes._blocked(sc):
+        if not scene_files.blocked(sc):
             continue
         opt = solve(sc)
         if opt.feasible and opt.expressible and len(opt.touched) >= 3:

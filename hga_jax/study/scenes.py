@@ -25,17 +25,15 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
-import tomli_w
 
 from hga_jax.host.config import scenario_from_dict
-from hga_jax.model import collision
 from hga_jax.model.exact import solve
-from hga_jax.model.path import decode64
 from hga_jax.host.output import write_file
 from hga_jax.model.scenario import Scenario
 from .config import Family
+from .scene_files import blocked, scene_dict, to_toml
 
-ROBOT_RADIUS, TURN_RADIUS, MODEL_RADIUS = 0.09, 0.15, 0.18
+MODEL_RADIUS = 0.18
 FIELD_W, FIELD_H = 2.8, 2.3
 SPACING = 0.30  # minimum distance between obstacle centres (m)
 MAX_TRIES = 5000
@@ -92,47 +90,6 @@ def _place(rng, n: int, w: float, h: float, start, goal, obstructed: bool) -> np
     return np.array(out).reshape(n, 2)
 
 
-def scene_dict(name: str, w: float, h: float, start, goal, centres, radii=None,
-               robot_radius: float = ROBOT_RADIUS, turn_radius: float = TURN_RADIUS) -> dict:
-    """A scenario mapping (metres, degrees) rounded to 0.1 mm and 0.01 degree; ``radii``:
-    per-obstacle physical radii (None: none written, the robot's radius)."""
-    r4 = lambda v: round(float(v), 4)  # noqa: E731
-    obstacles = ([{"x": r4(x), "y": r4(y)} for x, y in centres] if radii is None else
-                 [{"x": r4(x), "y": r4(y), "radius": r4(r)} for (x, y), r in zip(centres, radii)])
-    return {
-        "name": name,
-        "robot": {"radius": r4(robot_radius), "min_turn_radius": r4(turn_radius)},
-        "field": {"xmin": 0.0, "xmax": r4(w), "ymin": 0.0, "ymax": r4(h), "keep_inside": True},
-        "start": {"x": r4(start[0]), "y": r4(start[1]), "heading_deg": round(start[2], 2)},
-        "goal": {"x": r4(goal[0]), "y": r4(goal[1]), "heading_deg": round(goal[2], 2)},
-        "obstacles": obstacles,
-    }
-
-
-def to_toml(d: dict, comment: str = "") -> str:
-    """TOML text (``tomli_w``) of a scenario mapping, ``comment`` lines first as ``#``
-    comments, in the layout of ``configs/scenarios``: each obstacle its own
-    ``[[obstacles]]`` table (``tomli_w`` alone writes short ones as one inline array).
-    The text is part of a cell's identity (:func:`~hga_jax.study.store.cell_id`)."""
-    head = "".join(f"# {line}\n" for line in comment.splitlines())
-    rest = tomli_w.dumps({k: v for k, v in d.items() if k != "obstacles"})
-    return head + rest + "".join("\n[[obstacles]]\n" + tomli_w.dumps(o) for o in d["obstacles"])
-
-
-def _blocked(sc: Scenario) -> bool:
-    """True when the straight start-goal line and all four direct Dubins paths collide."""
-    (ax, ay), (bx, by) = sc.start[:2], sc.goal[:2]
-    line_hits = collision.segment_hits(ax, ay, bx, by, sc.centres[:, 0], sc.centres[:, 1],
-                                       sc.model_radii, 0.0)
-    if not line_hits.any():
-        return False
-    ends = np.array([[s, g] for s in (-1, 1) for g in (-1, 1)])
-    labels = np.zeros((4, sc.n + 2), np.int32)
-    labels[:, 0], labels[:, -1] = ends[:, 0], ends[:, 1]
-    perm = np.tile(np.arange(sc.n, dtype=np.int32), (4, 1))
-    return bool(np.all(decode64(sc, perm, labels).violations > 0))
-
-
 def generate(kind: str, n: int, seed: int, index: int, name: str,
              density: float | None = None) -> dict:
     """Scene ``index`` with ``n`` obstacles of a ``kind`` family with ``seed``: a mapping."""
@@ -153,7 +110,7 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
             sc = scenario_from_dict(d, name)
         except ValueError:
             continue
-        if kind == "obstructed" and not _blocked(sc):
+        if kind == "obstructed" and not blocked(sc):
             continue
         opt = solve(sc)
         if not (opt.feasible and opt.expressible):
