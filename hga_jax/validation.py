@@ -89,12 +89,11 @@ def run_range(seed: Any, runs: Any, first_run: Any, chunk: Any, source: str,
     integer(1 if chunk is None else chunk, source, name("chunk"), *CHUNK, grouped=grouped)
 
 
-TURNS = ("tight-rope", "free")
-
-
 def turns(value: Any, collision: str, source: str, key: str = "turns") -> str:
     """The model of turns (``"tight-rope"`` or ``"free"``; free turns only under the full
     collision test, whose arcs are judged against the obstacles)."""
+    from hga_jax.model.exact import TURNS
+
     if value not in TURNS:
         raise error(source, key, f"must be one of {', '.join(TURNS)}, got {value!r}")
     if value == "free" and collision != "full":
