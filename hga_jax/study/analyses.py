@@ -194,9 +194,12 @@ def scaling(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     write_csv(os.path.join(folder, "scaling.csv"), pd.DataFrame(out), missing="nan")
     text = _scaling_markdown(out)
     write_file(os.path.join(folder, "scaling.md"), lambda fh: fh.write(text))
-    fig, (a1, a2) = subplots(1, 2, figsize=(10, 4))
-    for c in study.configs:
-        for fam in dict.fromkeys(r["family"] for r in out):
+    # Colour: the configuration; line and marker: the family; one legend below both panels.
+    fams = list(dict.fromkeys(r["family"] for r in out))
+    style = {f: (("-", "o"), ("--", "^"), ("-.", "s"), (":", "D"))[i % 4] for i, f in enumerate(fams)}
+    fig, (a1, a2) = subplots(1, 2, figsize=(10, 4.6), layout="constrained")
+    for i, c in enumerate(study.configs):
+        for fam in fams:
             rs = [r for r in out if r["config"] == c.label and r["family"] == fam]
             if not rs:
                 continue
@@ -204,22 +207,26 @@ def scaling(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
             rate = np.array([r["hit_rate"] for r in rs])
             err = np.array([[r["hit_rate"] - r["hit_rate_ci_low"] for r in rs],
                             [r["hit_rate_ci_high"] - r["hit_rate"] for r in rs]])
-            a1.errorbar(n, 100 * rate, yerr=100 * err, marker="o", capsize=3,
-                        label=f"{c.label}, {fam}")
-            a2.plot(n, [r["ga_ms_per_run"] for r in rs], marker="o",
-                    label=f"GA run ({c.label}, {fam})")
+            ls, mk = style[fam]
+            a1.errorbar(n, 100 * rate, yerr=100 * err, marker=mk, ls=ls, capsize=3,
+                        color=f"C{i}", label=f"GA: {c.label}, {fam}")
+            a2.plot(n, [r["ga_ms_per_run"] for r in rs], marker=mk, ls=ls, color=f"C{i}")
     first = [r for r in out if r["config"] == study.configs[0].label]
     for fam in dict.fromkeys(r["family"] for r in first):
         rs = [r for r in first if r["family"] == fam]
-        a2.plot([r["obstacles"] for r in rs], [r["exact_ms_median"] for r in rs],
-                marker="s", color="k", ls=":", label=f"exact solver ({fam})")
+        ls, mk = style[fam]
+        a2.plot([r["obstacles"] for r in rs], [r["exact_ms_median"] for r in rs], marker=mk,
+                ls=ls, color="k", mfc="white", label=f"exact solver, {fam}")
     a1.set_ylabel("hit rate (%), 95% Wilson")
-    a2.set_ylabel("milliseconds (GA: share of a batched search)")
+    a2.set_ylabel("ms per run (GA: share of a batched search)")
     a2.set_yscale("log")
     for ax in (a1, a2):
         ax.set_xlabel("obstacles")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=6)
+    handles = a1.get_legend_handles_labels()
+    extra = a2.get_legend_handles_labels()
+    fig.legend(handles[0] + extra[0], handles[1] + extra[1], loc="outside lower center",
+               ncol=3, fontsize=7, frameon=False)
     files = [save(fig, os.path.join(folder, "figures", "scaling.png")),
              os.path.join(folder, "scaling.csv"), os.path.join(folder, "scaling.md")]
     return files

@@ -25,10 +25,10 @@ GAP_FLOOR = 1e-6  # gaps are drawn on a log axis; a hit sits at this floor
 
 
 def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | None = None,
-             **kwargs: Any) -> tuple[Figure, Any]:
-    """``(figure, axes)`` like ``pyplot.subplots`` (``figsize`` in inches), on a
-    ``Figure`` that no backend or pyplot state holds."""
-    fig = Figure(figsize=figsize)
+             layout: str | None = None, **kwargs: Any) -> tuple[Figure, Any]:
+    """``(figure, axes)`` like ``pyplot.subplots`` (``figsize`` in inches, ``layout`` as
+    matplotlib's), on a ``Figure`` that no backend or pyplot state holds."""
+    fig = Figure(figsize=figsize, layout=layout)
     return fig, fig.subplots(nrows, ncols, **kwargs)
 
 
