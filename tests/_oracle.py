@@ -29,7 +29,7 @@ def clearance(sa, d, k: int = 64, chunk: int = 4096) -> tuple[np.ndarray, np.nda
     obs = np.full(rows, np.inf)
     fld = np.full(rows, np.inf)
     for lo in range(0, rows, chunk):
-        o, f = _clearance_chunk(sa, [np.asarray(a)[lo:lo + chunk] for a in d], k)
+        o, f = _clearance_chunk(sa, [np.asarray(a)[lo:lo + chunk] for a in d[:7]], k)
         obs[lo:lo + chunk], fld[lo:lo + chunk] = o, f
     return obs, fld
 

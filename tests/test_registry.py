@@ -42,6 +42,15 @@ def _labels(n, seed):
     return jnp.asarray(lab)
 
 
+def _genes(n, seed):
+    return jnp.asarray(np.random.default_rng(seed).integers(0, 3, (BATCH, n + 2)).astype(np.int32))
+
+
+def _assert_genes(g, n):
+    g = np.asarray(g)
+    assert g.shape == (BATCH, n + 2) and g.dtype == np.int32 and np.isin(g, [0, 1, 2]).all()
+
+
 def _assert_perms(p, n):
     p = np.asarray(p)
     assert p.shape == (BATCH, n) and p.dtype == np.int32
@@ -80,6 +89,19 @@ def test_every_registered_operator_gives_valid_output(kind, name, legs):
         _assert_labels(out, N)
         assert not np.array_equal(out, la)
         np.testing.assert_array_equal(jax.vmap(lambda k, l: fn(k, l, 0.0))(keys, la), la)
+    elif kind == "leg_crossover":
+        ga_, gb_ = _genes(N, 3), _genes(N, 4)
+        c1, c2 = jax.jit(jax.vmap(fn))(keys, ga_, gb_)
+        _assert_genes(c1, N), _assert_genes(c2, N)
+        # Genes stay at their positions: each child's gene comes from a parent there.
+        assert ((c1 == ga_) | (c1 == gb_)).all() and not np.array_equal(c1, ga_)
+    elif kind == "leg_mutation":
+        g = _genes(N, 3)
+        out = jax.jit(jax.vmap(lambda k, x: fn(k, x, 0.5)))(keys, g)
+        _assert_genes(out, N)
+        assert 0.3 < float(np.mean(np.asarray(out) != np.asarray(g))) < 0.7  # about half
+        np.testing.assert_array_equal(jax.vmap(lambda k, x: fn(k, x, 0.0))(keys, g), g)
+        np.testing.assert_array_equal(jax.vmap(lambda k, x: fn(k, x, 1.0))(keys, g) != g, True)
     else:
         p2, l2 = jax.jit(jax.vmap(lambda k, p, l: fn(k, p, l, legs)))(keys, a, la)
         _assert_perms(p2, N), _assert_labels(l2, N)
@@ -94,6 +116,8 @@ def test_names_start_with_the_builtins_and_settings_read_them():
     assert registry.names("label_crossover") == ("two_point",)
     assert registry.names("label_mutation") == ("redraw",)
     assert registry.names("path_mutation")[0] == "none"
+    assert registry.names("leg_crossover") == ("two_point",)
+    assert registry.names("leg_mutation") == ("redraw",)
     assert GASettings().label_mutation == "redraw"
     with pytest.raises(ValueError, match="known: cx, pmx, ox1"):
         registry.get("perm_crossover", "nope")
@@ -142,13 +166,13 @@ def test_register_unregister_and_isolated():
 def _population(P=10, n=N, seed=0):
     fitness = jnp.asarray(np.random.default_rng(seed).uniform(0.5, 2.0, P), jnp.float32)
     return types.SimpleNamespace(perm=_perms(n, seed)[:P], labels=_labels(n, seed)[:P],
-                                 fitness=fitness)
+                                 fitness=fitness, legs=None)
 
 
 def _vary(settings, old, seed=0):
     words = jax.random.bits(jax.random.key(seed), (variation.draw_rows(old.perm.shape[1], settings),
                                                    old.perm.shape[0]), dtype=jnp.uint32)
-    return (np.asarray(x) for x in variation._vary(words, old, settings))
+    return (np.asarray(x) for x in variation._vary(words, old, settings)[:2])
 
 
 def test_user_crossover_selection_and_label_mutation_in_one_generation():

@@ -39,6 +39,7 @@ from hga_jax import __version__
 from hga_jax.errors import ConfigError, Interrupted, ModelMismatchError
 from hga_jax.running import devices
 from hga_jax.search import registry
+from hga_jax.model.exact import TURNS
 from hga_jax.search.settings import COLLISIONS, PAPER, PRECISIONS, PRESETS, RECOMMENDED, GASettings
 from hga_jax.study import cli as study_cli
 
@@ -53,6 +54,8 @@ OPERATOR_HELP = {  # operator kind (a setting, registry.KINDS) -> help
     "label_crossover": "crossover of the labels",
     "label_mutation": "mutation of the labels",
     "path_mutation": "move on the touched sequence applied to children (none: off)",
+    "leg_crossover": "crossover of the leg genes (with --turns free)",
+    "leg_mutation": "mutation of the leg genes (with --turns free)",
 }
 GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "registry"
     "population": (int, None, "individuals per run"),
@@ -75,6 +78,11 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),
+    "turns": (str, TURNS, "the model the GA searches and the optimum it is measured against: "
+              "tight-rope (the paper's: turns on the model circles only) or free (the car's "
+              "shortest path: leg genes add turns on free circles; see hga-jax exact --turns)"),
+    "pc_legs": (float, None, "crossover probability per pair of parents, leg genes"),
+    "pm_legs": (float, None, "mutation probability per gene, leg genes"),
 }
 
 
@@ -129,10 +137,6 @@ def _parser() -> argparse.ArgumentParser:
     devices.add_option(run)
     run.add_argument("--no-exact", action="store_true",
                      help="skip the exact optimum and the gaps to it")
-    run.add_argument("--turns", choices=("tight-rope", "free"), default="tight-rope",
-                     help="the model of the optimum the gaps are measured against: "
-                     "tight-rope (the paper's, which the GA searches) or free (the car's "
-                     "shortest path, with turns in free space; see hga-jax exact --turns)")
     _output_args(run, "results/<scenario file name>")
     d = run.add_argument_group(
         "several processes", "one job over several processes (JAX's multi-process runtime): "
@@ -322,7 +326,7 @@ def _cmd_run(args) -> int:
 
     res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
                    chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet,
-                   preset=args.preset, turns=args.turns)
+                   preset=args.preset)
     res.plugins = tuple(plugins)
     if jax.process_index() != 0:  # process 0 writes and prints the result
         return 0

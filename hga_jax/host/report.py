@@ -50,6 +50,9 @@ def operators(st: GASettings) -> str:
 def _extras(st: GASettings) -> str:
     """The settings beyond the paper's, when set."""
     out = []
+    if st.free:
+        out.append(f"free turns: leg genes, {st.leg_crossover} crossover (pc {st.pc_legs:g}), "
+                   f"{st.leg_mutation} (pm {st.pm_legs:g} per gene)")
     if st.path_mutation != "none":
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
     if st.seeding > 0:
@@ -309,7 +312,7 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
     or solved now if the file has none). Violations are marked.
     """
     from .config import scenario_from_dict
-    from hga_jax.model.path import evaluate_path, from_chromosome
+    from hga_jax.model.path import evaluate_path, from_chromosome, legs_from_list
     from .plots import plot_path
 
     data = load_result(path)
@@ -333,7 +336,8 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
             span = f"runs {min(ids)}..{max(ids)}" if ids else "no runs"
             raise ConfigError(f"{path}: per_run: no run {run} in this file ({span})")
         p = evaluate_path(sc, *from_chromosome(rows[0]["upper"], rows[0]["lower"], sc.n,
-                                               f"{path}: per_run"), collision)
+                                               f"{path}: per_run"), collision,
+                          legs_from_list(rows[0].get("legs"), sc.n, f"{path}: per_run"))
         segs, touched, where, length, viol = (p.segments, p.touched, p.violations_at,
                                               p.length, p.violations)
         what = f"run {run}"

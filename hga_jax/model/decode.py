@@ -43,6 +43,10 @@ class Decoded(NamedTuple):
       (rad, >= 0); slot ``count - 1`` is the goal arc ending at the goal point.
     lines: (B, S - 1, 5) per leg ``p1x, p1y, p2x, p2y, exists``; leg s joins slot s
       to slot s + 1 and is real for ``s < count - 1``.
+    free: (B, S - 1, 4) per leg ``fx, fy, sweep, is_free`` when decoded with leg genes:
+      a leg with ``is_free`` 1 runs from P1 to P2 over the free circle of centre
+      ``(fx, fy)`` and radius rho, turning against slot s's circle, by ``sweep`` (rad);
+      None without leg genes.
     """
 
     length: Any
@@ -52,6 +56,7 @@ class Decoded(NamedTuple):
     obstacle: Any
     arcs: Any
     lines: Any
+    free: Any = None
 
 
 def position_circles(perm, labels):
@@ -69,16 +74,20 @@ def position_circles(perm, labels):
     return jnp.concatenate([side[:1], obstacle_ids, 2 + side[n + 1:]]), lab != 0
 
 
-def _path_circles(perm, labels):
+def _path_circles(perm, labels, legs=None):
     """The oriented circles of the path (ids of :mod:`hga_jax.model.tangents`), compacted.
 
-    Returns ``count`` (B,) and ``ids`` (S, B) (S = n + 2): slot 0 is the start
-    circle, slots 1..count-2 the touched obstacles in order, slot count-1 the goal
-    circle. Only the circle ids are compacted; the circles are looked up after.
+    Returns ``count`` (B,), ``ids`` (S, B) (S = n + 2) and the leg genes of the slots
+    (S, B) (None without ``legs``, (B, S) positional): slot 0 is the start circle,
+    slots 1..count-2 the touched obstacles in order, slot count-1 the goal circle. Only
+    the circle ids are compacted; the circles are looked up after.
     """
     ids, touched = position_circles(perm, labels)
-    count, (ids,) = _compact(touched, ids)
-    return count, ids
+    if legs is None:
+        count, (ids,) = _compact(touched, ids)
+        return count, ids, None
+    count, (ids, genes) = _compact(touched, ids, legs.T.astype(jnp.int32))
+    return count, ids, genes
 
 
 def _compact(active, *columns):
@@ -105,20 +114,24 @@ def _compact(active, *columns):
     return jnp.sum(active, axis=0, dtype=jnp.int32), cols[1:]
 
 
-def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> Decoded:
+def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
+                 legs=None) -> Decoded:
     """Decode ``perm`` (B, n) and ``labels`` (B, n + 2) against scenario ``sa``.
 
     Pure and jit/vmap-able; ``collision`` is static. The float dtype is the
     scenario's (float32 for the search, float64 for exact re-evaluation). Each leg
     looks its tangent up in ``sa.tangents``; each arc is tested against every
-    obstacle (:func:`hga_jax.model.collision.arc_violations`).
+    obstacle (:func:`hga_jax.model.collision.arc_violations`). ``legs`` (B, n + 2)
+    int32 in 0..2, positional: the leg gene of each position (free turns,
+    :mod:`hga_jax.model.free_legs`; the gene of a touched position picks the leg to
+    the next touched circle); each leg then looks up ``sa.free_legs`` instead.
     """
     sa = jax.tree.map(jnp.asarray, sa)
     tb = sa.tangents
     dt = sa.centres.dtype
     tol = g.tolerances(dt)
     c = tb.circles.shape[0]
-    count, ids = _path_circles(perm, labels)
+    count, ids, genes = _path_circles(perm, labels, legs)
     cx, cy, r, sign = (tb.circles[:, i][ids] for i in range(4))
     oid = tb.obstacle[ids]
     obstacles = col.obstacles(sa.centres, sa.model_radii, ndim=1)  # (n, 1) against (B,) pieces
@@ -126,9 +139,15 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
     full = collision == "full"
     # One row of 8 values per ordered pair: one gather per leg (gathers are slow on
     # the CPU, ~20-30 ns each, whatever their width; small integers are exact in floats).
-    table = jnp.stack([m.reshape(-1).astype(dt) for m in (
-        tb.p1x, tb.p1y, tb.p2x, tb.p2y, tb.length, tb.exists, tb.coincident,
-        tb.violations_full if full else tb.violations_paper)], axis=-1)
+    if genes is None:
+        table = jnp.stack([m.reshape(-1).astype(dt) for m in (
+            tb.p1x, tb.p1y, tb.p2x, tb.p2y, tb.length, tb.exists, tb.coincident,
+            tb.violations_full if full else tb.violations_paper)], axis=-1)
+    else:  # rows (gene * C + a) * C + b, the free circle's centre, sweep and flag after
+        fl = sa.free_legs
+        table = jnp.stack([m.reshape(-1).astype(dt) for m in (
+            fl.p1x, fl.p1y, fl.p2x, fl.p2y, fl.length, fl.exists, fl.coincident,
+            fl.violations, fl.fx, fl.fy, fl.sweep, fl.free)], axis=-1)
 
     def arc_violations(circle, a, b, swp):
         ccx, ccy, cr, cs, cid, _ = circle
@@ -137,10 +156,10 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
 
     def leg(carry, xs):
         ax, ay, length, viol = carry
-        circle, nxt, real = xs
+        circle, nxt, real, gene = xs
         c1x, c1y, c1r, c1s, _, c1 = circle
         c2x, c2y, c2r, c2s, _, c2 = nxt
-        row = table[c1 * c + c2]  # (B, 8)
+        row = table[c1 * c + c2 if gene is None else (gene * c + c1) * c + c2]  # (B, 8 or 12)
         p1x, p1y, p2x, p2y, tlen = (row[:, i] for i in range(5))
         exists, coincident, tviol = row[:, 5] > 0, row[:, 6] > 0, row[:, 7].astype(jnp.int32)
         # Coincident centres: the tangent lies on the ray through the arrival point, so
@@ -165,7 +184,9 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
         )
         arc = jnp.stack([ax, ay, p1x, p1y, jnp.where(real, swp, zero)])
         line = jnp.stack([p1x, p1y, p2x, p2y, exists.astype(dt)])
-        return new, (arc, line)
+        if gene is None:
+            return new, (arc, line, None)
+        return new, (arc, line, jnp.stack([row[:, 8], row[:, 9], row[:, 10], row[:, 11]]))
 
     cols = (cx, cy, r, sign, oid, ids)
     first = tuple(col[:-1] for col in cols)
@@ -175,7 +196,9 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
     sy = jnp.broadcast_to(sa.start[1], (batch,)).astype(dt)
     init = (sx, sy, jnp.zeros((batch,), dt), jnp.zeros((batch,), jnp.int32))
     second = tuple(col[1:] for col in cols)
-    (ax, ay, length, viol), (arcs, lines) = jax.lax.scan(leg, init, (first, second, real))
+    leg_genes = None if genes is None else genes[:-1]
+    (ax, ay, length, viol), (arcs, lines, free) = jax.lax.scan(
+        leg, init, (first, second, real, leg_genes))
 
     # The goal arc: on the last circle, from the arrival point to the goal point.
     last = count - 1
@@ -201,4 +224,5 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full") -> D
         obstacle=oid.T,
         arcs=arcs.transpose(2, 0, 1),
         lines=lines.transpose(2, 0, 1),
+        free=None if free is None else free.transpose(2, 0, 1),
     )

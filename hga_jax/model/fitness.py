@@ -44,48 +44,59 @@ def length_of_fitness(fitness):
     return FITNESS_CONST / fitness - 1.0
 
 
-def looked_up(entries, circles: int, perm, labels):
+def looked_up(entries, circles: int, perm, labels, legs=None):
     """Length (m) and violations of a batch ``perm`` (B, n), ``labels`` (B, n + 2)
-    from a turn table's ``entries`` ((C + 1) * C * (C + 1), 2) with ``circles = C``.
+    from a turn table's ``entries`` ((V C + 1) * C * (V C + 1), 2) with ``circles = C``.
 
-    A scan over the positions (batch innermost) carries the path's last two
-    circles ``(a, b)``, the start point standing for ``a`` at first; each touched
-    circle ``c`` (the goal circle always) adds turn ``(a, b, c)`` and moves on to
-    ``(b, c)``; the goal arc is turn ``(a, goal circle, goal point)``.
+    A scan over the positions (batch innermost) carries the leg that arrived on the
+    path's last circle ``b`` (``i = v_a C + a``, the start point standing for it at
+    first) and ``b``; each touched circle ``c`` (the goal circle always) adds turn
+    ``(i, b, v_b C + c)`` and moves on; the goal arc is turn ``(i, goal circle, goal
+    point)``. ``legs`` (B, n + 2), positional: the leg genes of free turns (``V = 3``,
+    :mod:`hga_jax.model.free_legs`); without them ``V = 1``, the tight rope.
     """
     c, entries = circles, jnp.asarray(entries)
     ids, touched = position_circles(perm, labels)
     batch = perm.shape[0]
     dt = entries.dtype
+    rows = c if legs is None else 3 * c  # V C: the start point's row, the goal point's column
 
-    def turn(a, b, nxt, on=True):
+    def turn(i, b, d, on=True):
         # (B, 2): one gather per position. An untouched position reads row 0, the
         # same row for all of them: a cache hit instead of a miss (at n = 9 the
         # lookups took 2.1 instead of 3.1-3.6 ms per 50,000 chromosomes, at n = 100
         # 7.1-7.6 instead of 8.9-9.3 ms per 10,000).
-        return entries[jnp.where(on, (a * c + b) * (c + 1) + nxt, 0)]
+        return entries[jnp.where(on, (i * c + b) * (rows + 1) + d, 0)]
 
     def body(carry, xs):
-        a, b, length, viol = carry
-        nxt, on = xs
-        row = turn(a, b, nxt, on)
+        i, b, vb, length, viol = carry
+        nxt, on, vn = xs
+        row = turn(i, b, nxt if vb is None else vb * c + nxt, on)
         length = length + jnp.where(on, row[:, 0], 0.0)
         viol = viol + jnp.where(on, row[:, 1], 0.0)
-        return (jnp.where(on, b, a), jnp.where(on, nxt, b), length, viol), None
+        i = jnp.where(on, b if vb is None else vb * c + b, i)
+        vb = None if vb is None else jnp.where(on, vn, vb)
+        return (i, jnp.where(on, nxt, b), vb, length, viol), None
 
-    init = (jnp.full((batch,), c, jnp.int32), ids[0], jnp.zeros((batch,), dt),
-            jnp.zeros((batch,), dt))
-    (a, b, length, viol), _ = jax.lax.scan(body, init, (ids[1:], touched[1:]))
-    row = turn(a, b, jnp.full((batch,), c, jnp.int32))
+    genes = None if legs is None else legs.T.astype(jnp.int32)  # (S, B)
+    init = (jnp.full((batch,), rows, jnp.int32), ids[0], None if genes is None else genes[0],
+            jnp.zeros((batch,), dt), jnp.zeros((batch,), dt))
+    xs = (ids[1:], touched[1:], None if genes is None else genes[1:])
+    (i, b, _, length, viol), _ = jax.lax.scan(body, init, xs)
+    row = turn(i, b, jnp.full((batch,), rows, jnp.int32))
     return length + row[:, 0], (viol + row[:, 1]).astype(jnp.int32)
 
 
-def evaluate(sa: ScenarioArrays, perm, labels, collision: str = "full") -> Evaluation:
-    """Evaluate a batch ``perm`` (B, n), ``labels`` (B, n + 2). Pure, jit/vmap-able."""
-    table = sa.turns_full if collision == "full" else sa.turns_paper
+def evaluate(sa: ScenarioArrays, perm, labels, collision: str = "full", legs=None) -> Evaluation:
+    """Evaluate a batch ``perm`` (B, n), ``labels`` (B, n + 2) (and, under free turns,
+    positional leg genes ``legs`` (B, n + 2), the full rule only). Pure, jit/vmap-able."""
+    if legs is not None:
+        table = sa.turns_free
+    else:
+        table = sa.turns_full if collision == "full" else sa.turns_paper
     if table is None:
-        d = decode_batch(sa, perm, labels, collision)
+        d = decode_batch(sa, perm, labels, collision, legs)
         length, violations = d.length, d.violations
     else:
-        length, violations = looked_up(table, sa.tangents.circles.shape[0], perm, labels)
+        length, violations = looked_up(table, sa.tangents.circles.shape[0], perm, labels, legs)
     return Evaluation(fitness_of(length, violations, sa.delta), length, violations)

@@ -13,7 +13,8 @@ obstacle or a wall that it does not turn on (:mod:`hga_jax.model.free_turns`).
 :func:`table` lists every feasible free leg of a scenario; :func:`shortest` finds
 the best path of that chromosome space exactly (each obstacle touched at most once,
 as a chromosome does), so that the share of free-turn optima it reaches can be
-measured. Host code (numpy, float64); metres and radians.
+measured; :func:`leg_table` is what the GA's decoder and turn table read. Host code
+(numpy, float64 unless a dtype is given); metres and radians.
 """
 from __future__ import annotations
 
@@ -48,6 +49,67 @@ class FreeLegs(NamedTuple):
     p2x: np.ndarray
     p2y: np.ndarray
     sweep: np.ndarray
+
+
+VARIANTS = 3
+"""Leg genes: 0 a straight tangent, 1 a free leg on side 0, 2 on side 1."""
+
+
+class LegTable(NamedTuple):
+    """Every leg of a free-turn chromosome, as arrays shaped ``(VARIANTS, C, C)``: entry
+    ``[v, a, c]`` is the leg with gene ``v`` from oriented circle ``a`` to ``c`` (ids of
+    :mod:`hga_jax.model.tangents`). Gene 0 is the tangent of the scenario's tangent
+    table; genes 1 and 2 are the free leg on that side where :func:`table` lists one
+    (clear of every obstacle and the field), else a copy of the tangent (a gene with
+    no free leg to express reads as straight).
+
+    p1x, p1y: where the leg leaves ``a``; p2x, p2y: where it arrives on ``c``. length:
+    the tangent's length or the free arc's ``rho * sweep`` (m). exists, coincident,
+    violations: the tangent's (a free leg: 1, 0, 0; violations under the full rule).
+    free: the entry is a free leg. fx, fy, sweep: its free circle's centre and the free
+    arc's sweep (rad; 0 for tangents); the free circle turns against ``a``.
+    """
+
+    p1x: np.ndarray
+    p1y: np.ndarray
+    p2x: np.ndarray
+    p2y: np.ndarray
+    length: np.ndarray
+    exists: np.ndarray
+    coincident: np.ndarray
+    violations: np.ndarray
+    free: np.ndarray
+    fx: np.ndarray
+    fy: np.ndarray
+    sweep: np.ndarray
+
+
+def leg_table(sc: Scenario, dtype=np.float64) -> LegTable:
+    """The :class:`LegTable` of ``sc`` in ``dtype``: gene 0 from ``sc.arrays(dtype)``'s
+    tangent table, the free legs computed in float64 and cast."""
+    tb = sc.arrays(dtype).tangents
+    c = np.asarray(tb.circles).shape[0]
+
+    def three(v, dt):
+        return np.repeat(np.asarray(v, dt)[None], VARIANTS, axis=0)
+
+    cols = {name: three(getattr(tb, name), dtype) for name in
+            ("p1x", "p1y", "p2x", "p2y", "length", "exists", "coincident")}
+    cols["exists"] = cols["exists"].astype(dtype)
+    cols["coincident"] = cols["coincident"].astype(dtype)
+    cols["violations"] = three(tb.violations_full, dtype)
+    cols["free"] = np.zeros((VARIANTS, c, c), bool)
+    for name in ("fx", "fy", "sweep"):
+        cols[name] = np.zeros((VARIANTS, c, c), dtype)
+    legs = table(sc)
+    at = (legs.side + 1, legs.S, legs.T)
+    rho = float(sc.min_turn_radius)
+    for name, value in (("p1x", legs.p1x), ("p1y", legs.p1y), ("p2x", legs.p2x),
+                        ("p2y", legs.p2y), ("length", rho * legs.sweep), ("exists", 1.0),
+                        ("coincident", 0.0), ("violations", 0.0), ("free", True),
+                        ("fx", legs.fx), ("fy", legs.fy), ("sweep", legs.sweep)):
+        cols[name][at] = value
+    return LegTable(**cols)
 
 
 def table(sc: Scenario) -> FreeLegs:

@@ -29,8 +29,9 @@ TINY = 1e-12  # m: a line this short is rounding (e.g. between coincident circle
 BLOCK = 64  # float64 decoding always runs on blocks of this many rows
 
 
-def decode64(scenario: Scenario, perm, labels, collision: str = "full"):
-    """Float64 decoding of a batch, as numpy arrays (a :class:`Decoded` of them).
+def decode64(scenario: Scenario, perm, labels, collision: str = "full", legs=None):
+    """Float64 decoding of a batch, as numpy arrays (a :class:`Decoded` of them);
+    ``legs``: positional leg genes of free-turn chromosomes (or None).
 
     Rows go through one compiled shape of ``BLOCK`` rows (the last block padded), so
     a chromosome gets bit-identical values alone or in a batch of any size.
@@ -39,13 +40,21 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full"):
     rows = labels.shape[0]
     perm = np.asarray(perm, np.int32).reshape(rows, scenario.n)
     pad = -rows % BLOCK
-    perm = np.concatenate([perm, np.repeat(perm[:1], pad, axis=0)])
-    labels = np.concatenate([labels, np.repeat(labels[:1], pad, axis=0)])
+
+    def padded(a):
+        return np.concatenate([a, np.repeat(a[:1], pad, axis=0)])
+
+    perm, labels = padded(perm), padded(labels)
+    if legs is not None:
+        legs = padded(np.asarray(legs, np.int32).reshape(rows, scenario.n + 2))
     parts = []
     with jax.enable_x64(True):
         sa = scenario.arrays(np.float64)
+        if legs is not None:
+            sa = sa._replace(free_legs=scenario.leg_table(np.float64))
         for i in range(0, rows + pad, BLOCK):
-            d = _decode(sa, perm[i:i + BLOCK], labels[i:i + BLOCK], collision=collision)
+            d = _decode(sa, perm[i:i + BLOCK], labels[i:i + BLOCK], collision=collision,
+                        legs=None if legs is None else legs[i:i + BLOCK])
             parts.append(jax.tree.map(np.asarray, d))
     return jax.tree.map(lambda *xs: np.concatenate(xs)[:rows], *parts)
 
@@ -64,6 +73,8 @@ class Path:
     violations_at: one dict per violation: ``{"kind": "obstacle" | "missing tangent" |
       "field", "segment": index into segments (None for a zero-length piece),
       "obstacle": number from 1 (None unless kind is "obstacle")}``.
+    legs: the leg genes of a free-turn chromosome (positional, as ``lower``), or None;
+      arcs on free circles carry ``"free": true`` in ``segments``.
     """
 
     length: float
@@ -73,6 +84,7 @@ class Path:
     segments: list[dict[str, Any]] = field(default_factory=list)
     touched: list[tuple[int, int]] = field(default_factory=list)
     violations_at: list[dict[str, Any]] = field(default_factory=list)
+    legs: list[int] | None = None
 
     @property
     def feasible(self) -> bool:
@@ -88,6 +100,7 @@ class Path:
             "touched": touch_list(self.touched),
             "segments": self.segments,
             "violations_at": self.violations_at,
+            **({} if self.legs is None else {"legs": self.legs}),
         }
 
 
@@ -116,12 +129,27 @@ def from_chromosome(upper: Sequence[int], lower: Sequence[int], n: int,
     return np.asarray(upper[1:-1], np.int32) - 1, np.asarray(lower, np.int32)
 
 
+def legs_from_list(legs: Sequence[int] | None, n: int,
+                   source: str = "<chromosome>") -> np.ndarray | None:
+    """Internal leg genes from a chromosome's ``legs`` list (free turns), checked; None
+    stays None."""
+    if legs is None:
+        return None
+    values = [int(v) for v in legs]
+    if len(values) != n + 2 or any(v not in (0, 1, 2) for v in values):
+        raise ConfigError(f"{source}: legs: must be {n + 2} leg genes in {{0, 1, 2}}")
+    return np.asarray(values, np.int32)
+
+
 def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int],
-                  collision: str = "full") -> Path:
-    """Decode one chromosome in float64 and describe its path, violations located."""
+                  collision: str = "full", legs: Sequence[int] | None = None) -> Path:
+    """Decode one chromosome in float64 and describe its path, violations located;
+    ``legs``: its positional leg genes under free turns (the full rule only)."""
     perm = np.asarray(perm, np.int32).reshape(scenario.n)
     labels = np.asarray(labels, np.int32).reshape(scenario.n + 2)
-    d = jax.tree.map(lambda a: a[0], decode64(scenario, perm, labels, collision))
+    if legs is not None:
+        legs = np.asarray(legs, np.int32).reshape(scenario.n + 2)
+    d = jax.tree.map(lambda a: a[0], decode64(scenario, perm, labels, collision, legs))
     upper, lower = chromosome(perm, labels)
     locate = _Locator(scenario, collision)
     segments: list[dict[str, Any]] = []
@@ -138,7 +166,17 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
             })
         where += locate.arc((cx, cy, r, sign), int(d.obstacle[s]), (ax, ay, bx, by, swp),
                             len(segments) - 1 if drawn else None)
-        if s < count - 1:
+        if s < count - 1 and d.free is not None and d.free[s][3] > 0.5:
+            fx, fy, fswp = (float(v) for v in d.free[s][:3])
+            p1x, p1y, p2x, p2y, _ = (float(v) for v in d.lines[s])
+            rho = float(scenario.min_turn_radius)
+            if fswp > 0.0:
+                segments.append({"type": "arc", "center": [fx, fy], "radius": rho,
+                                 "start_angle": float(np.arctan2(p1y - fy, p1x - fx)),
+                                 "sweep": sign * fswp, "free": True})
+            where += locate.arc((fx, fy, rho, -sign), -1, (p1x, p1y, p2x, p2y, fswp),
+                                len(segments) - 1 if fswp > 0.0 else None)
+        elif s < count - 1:
             p1x, p1y, p2x, p2y, exists = (float(v) for v in d.lines[s])
             drawn = bool(np.hypot(p2x - p1x, p2y - p1y) > TINY)
             if drawn:
@@ -146,7 +184,8 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
             where += locate.line((p1x, p1y, p2x, p2y), exists > 0.5,
                                  len(segments) - 1 if drawn else None)
     touched = [(int(d.obstacle[s]), int(d.circles[s][3])) for s in range(1, count - 1)]
-    return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where)
+    return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where,
+                None if legs is None else [int(v) for v in legs])
 
 
 class _Locator:

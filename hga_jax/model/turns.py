@@ -40,20 +40,25 @@ _REACH_MARGIN = 1e-3  # m: obstacles farther than this beyond reach are left out
 MAX_ENTRIES = 2**24  # turns; 134 MB in float32 (n = 100 needs 8.6 million)
 
 
-def entries(n: int) -> int:
-    """Number of turns of a scenario with ``n`` obstacles: ``(C + 1) * C * (C + 1)``."""
+def entries(n: int, variants: int = 1) -> int:
+    """Number of turns of a scenario with ``n`` obstacles and ``variants`` legs per pair
+    of circles (1 for the tight rope, 3 under free turns): ``(V C + 1) * C * (V C + 1)``."""
     c = 2 * n + 4
-    return (c + 1) * c * (c + 1)
+    return (variants * c + 1) * c * (variants * c + 1)
 
 
-def fits(n: int) -> bool:
-    """Whether a table is built for ``n`` obstacles (up to about 125; beyond that the
-    fitness decodes leg by leg rather than hold a table of more than ``MAX_ENTRIES``)."""
-    return entries(n) <= MAX_ENTRIES
+def fits(n: int, variants: int = 1) -> bool:
+    """Whether a table is built for ``n`` obstacles (tight rope: up to about 125; free
+    turns: about 58; beyond that the fitness decodes leg by leg rather than hold a table
+    of more than ``MAX_ENTRIES``)."""
+    return entries(n, variants) <= MAX_ENTRIES
 
 
 class TurnTable(NamedTuple):
-    """``(C + 1) * C * (C + 1)`` turns, flattened (index ``(a * C + b) * (C + 1) + c``).
+    """``(V C + 1) * C * (V C + 1)`` turns, flattened (index ``(i * C + b) * (V C + 1) + d``:
+    the leg ``i = v_a C + a`` arrives on ``b``, the leg ``d = v_b C + c`` leaves it, leg
+    genes ``v`` of :mod:`hga_jax.model.free_legs`; ``V = 1`` for the tight rope, whose
+    index is ``(a * C + b) * (C + 1) + c``; ``V C`` stands for the start and goal point).
 
     entries: ``(T, 2)`` per turn: length (m) and violations (a small integer, exact
     in floats) under the collision mode of the table. usable: whether lookups give
@@ -77,11 +82,14 @@ def usable(tb: TangentTable) -> bool:
 
 
 def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
-          collision: str) -> TurnTable:
+          collision: str, legs=None) -> TurnTable:
     """The turn table of a scenario from its float64 tangent table (see module doc).
 
     ``collision``: ``"full"`` tests every arc against the obstacles' model circles;
     ``"paper"`` only against the field (the paper's criterion judges segments only).
+    ``legs``: a float64 :class:`~hga_jax.model.free_legs.LegTable` (free turns, the
+    full rule): the legs between two circles are its ``V`` variants instead of the
+    tangent alone.
     """
     f8 = np.float64
     tol = g.tolerances(f8)
@@ -93,24 +101,39 @@ def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
     model_radii = np.asarray(model_radii, f8).reshape(-1)
     bounds = np.asarray(bounds, f8)
     start, goal = np.asarray(start, f8), np.asarray(goal, f8)
-    # Arrival points on b (rows a = 0..C-1, and a = C: the start point) and departure
-    # points from b (columns c = 0..C-1, and c = C: the goal point).
-    arr_x = np.vstack([np.asarray(tb.p2x, f8), np.full((1, c), start[0])])  # (C+1, C)
-    arr_y = np.vstack([np.asarray(tb.p2y, f8), np.full((1, c), start[1])])
-    dep_x = np.hstack([np.asarray(tb.p1x, f8), np.full((c, 1), goal[0])])  # (C, C+1)
-    dep_y = np.hstack([np.asarray(tb.p1y, f8), np.full((c, 1), goal[1])])
-    t_len = np.hstack([np.asarray(tb.length, f8), np.zeros((c, 1))])
-    t_vio = np.asarray(tb.violations_full if collision == "full" else tb.violations_paper)
-    t_vio = np.hstack([t_vio, np.zeros((c, 1), t_vio.dtype)]).astype(f8)
+    if legs is None:
+        t_vio = tb.violations_full if collision == "full" else tb.violations_paper
+        parts = (tb.p1x, tb.p1y, tb.p2x, tb.p2y, tb.length, t_vio, tb.coincident)
+    else:
+        parts = (legs.p1x, legs.p1y, legs.p2x, legs.p2y, legs.length, legs.violations,
+                 legs.coincident)
+    p1x, p1y, p2x, p2y, t_len, t_vio, coincident = (
+        np.asarray(v).reshape(-1, c, c) for v in parts)
+    v = p1x.shape[0]
+
+    def arriving(m):  # (V, C, C) by (gene, a, b) -> (V C, C): rows i = v C + a
+        return m.reshape(v * c, c)
+
+    def leaving(m):  # (V, C, C) by (gene, b, c) -> (C, V C): columns d = v C + c
+        return m.transpose(1, 0, 2).reshape(c, v * c)
+
+    # Arrival points on b (rows i = 0..VC-1, and i = VC: the start point) and departure
+    # points from b (columns d = 0..VC-1, and d = VC: the goal point).
+    arr_x = np.vstack([arriving(p2x.astype(f8)), np.full((1, c), start[0])])  # (VC+1, C)
+    arr_y = np.vstack([arriving(p2y.astype(f8)), np.full((1, c), start[1])])
+    dep_x = np.hstack([leaving(p1x.astype(f8)), np.full((c, 1), goal[0])])  # (C, VC+1)
+    dep_y = np.hstack([leaving(p1y.astype(f8)), np.full((c, 1), goal[1])])
+    t_len = np.hstack([leaving(t_len.astype(f8)), np.zeros((c, 1))])
+    t_vio = np.hstack([leaving(t_vio.astype(f8)), np.zeros((c, 1))])
     # A departure from a circle into a coincident one is the arrival point itself
     # (the decoder's rule); such turns only occur when the table is not usable,
     # but give them the decoder's value anyway.
-    coincident = np.hstack([np.asarray(tb.coincident, bool), np.zeros((c, 1), bool)])
+    coincident = np.hstack([leaving(coincident.astype(bool)), np.zeros((c, 1), bool)])
 
-    out = np.empty((c + 1, c, c + 1, 2), f8)
+    out = np.empty((v * c + 1, c, v * c + 1, 2), f8)
     for b in range(c):
-        ax, ay = arr_x[:, b][:, None], arr_y[:, b][:, None]  # (C+1, 1)
-        bx = np.where(coincident[b], ax, dep_x[b][None, :])  # (C+1, C+1)
+        ax, ay = arr_x[:, b][:, None], arr_y[:, b][:, None]  # (VC+1, 1)
+        bx = np.where(coincident[b], ax, dep_x[b][None, :])  # (VC+1, VC+1)
         by = np.where(coincident[b], ay, dep_y[b][None, :])
         ax, ay = np.broadcast_to(ax, bx.shape), np.broadcast_to(ay, by.shape)
         swp = g.sweep(ax - cx[b], ay - cy[b], bx - cx[b], by - cy[b], sign[b], tol.angle)

@@ -51,6 +51,7 @@ class RunsResult:
     devices: int = 1  # devices the search was spread over (all processes')
     plugins: tuple[str, ...] = ()  # plugins imported for the settings (hga-jax run --plugin)
     budget: dict[str, Any] | None = None  # how the generations grew with n (GASettings.budget)
+    legs: np.ndarray | None = None  # (R, n + 2) positional leg genes (free turns), else None
 
     @property
     def feasible(self) -> np.ndarray:
@@ -147,6 +148,7 @@ class RunsResult:
                 "generation_within_1pct": int(near[i]),
                 "generation_hit": int(self.generation_hit[i]),
                 "upper": upper, "lower": lower,
+                **({} if self.legs is None else {"legs": [int(v) for v in self.legs[i]]}),
             })
         return result_document(self.scenario, {
             "seed": self.seed,

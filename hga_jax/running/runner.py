@@ -106,7 +106,7 @@ _DEVICES = "devices"  # the mesh axis the runs of a batch are split over
 def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, seed: int = 0,
              runs: int = 1, first_run: int = 0, chunk: int | None = None,
              exact: bool = True, progress: bool = False,
-             preset: str | None = None, turns: str = "tight-rope") -> RunsResult:
+             preset: str | None = None, turns: str | None = None) -> RunsResult:
     """Runs ``first_run .. first_run + runs - 1`` of ``seed`` on ``scenario``.
 
     ``settings`` defaults to the scenario's ``[ga]`` table over the paper's
@@ -119,10 +119,10 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     shows a bar of generations on stderr. ``preset``: the name of the preset the
     settings were built on (:data:`hga_jax.search.settings.PRESETS`), recorded in the result.
     ``turns``: the model the optimum is solved in, the yardstick of the gaps:
-    ``"tight-rope"`` (the paper's, which the GA searches) or ``"free"`` (the car's
-    shortest path, :mod:`hga_jax.model.free_turns`; the full collision test only). The
-    GA searches the tight-rope model either way, so under ``"free"`` a gap shows how
-    far its paths are from the car's shortest.
+    ``"tight-rope"`` (the paper's) or ``"free"`` (the car's shortest path,
+    :mod:`hga_jax.model.free_turns`; the full collision test only); None: the model the
+    GA searches (``settings.turns``). A tight-rope GA measured against the free-turn
+    optimum shows how far its paths are from the car's shortest.
 
     In a multi-process job (after :func:`hga_jax.running.distributed.initialize`) every
     process makes the same call: each searches its share of the runs on its own
@@ -135,6 +135,7 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
+    turns = settings.turns if turns is None else turns
     validation.turns(turns, settings.collision if exact else "full", "run_many")
     budget_rule = settings.budget(scenario.n)
     settings = settings.for_obstacles(scenario.n)
@@ -160,12 +161,14 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     score = fitness_of(length, violations, scenario.delta)
     pool = np.flatnonzero(violations == 0) if np.any(violations == 0) else np.arange(runs)
     top = int(pool[np.argmax(score[pool])])
-    best_path = evaluate_path(scenario, found.perm[top], found.labels[top], settings.collision)
+    best_path = evaluate_path(scenario, found.perm[top], found.labels[top], settings.collision,
+                              None if found.legs is None else found.legs[top])
     optimum = solve(scenario, settings.collision, turns=turns) if exact else None
     return RunsResult(
         scenario=scenario, settings=settings, seed=seed,
         run_ids=np.arange(first_run, first_run + runs),
-        perm=found.perm, labels=found.labels, length=length, violations=violations,
+        perm=found.perm, labels=found.labels, legs=found.legs, length=length,
+        violations=violations,
         generation=found.generation, history=found.history,
         best=best_path, best_run=first_run + top, optimum=optimum,
         compile_s=found.compile_s, search_s=found.search_s,
@@ -187,6 +190,7 @@ class _Found(NamedTuple):
     compile_s: float
     search_s: float
     finish_s: float  # the float64 re-evaluation
+    legs: np.ndarray | None = None  # (R, n + 2) int32 positional leg genes (free turns)
 
 
 def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int, runs: int,
@@ -199,7 +203,8 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
         return _Found(np.zeros((0, n), np.int32), np.zeros((0, n + 2), np.int32),
                       np.zeros(0, np.int64), np.zeros(0, np.float64), np.zeros(0, np.int64),
                       {name: np.zeros((gens + 1, 0), dt)
-                       for name, dt in _record_dtypes(dtype).items()}, 0.0, 0.0, 0.0)
+                       for name, dt in _record_dtypes(dtype).items()}, 0.0, 0.0, 0.0,
+                      np.zeros((0, n + 2), np.int32) if settings.free else None)
     cut = budget.plan(n, settings, runs, chunk, jax.local_device_count(), source="run_many")
     size = cut.chunk
     sharding = _sharding()
@@ -217,7 +222,8 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                         f"generations of {count(runs, 'run')}" if cut.batches == 1 else
                         f"generations of {cut.batches} batches of {count(size, 'run')}")
         with jax.enable_x64(dtype == np.float64):
-            sa = scenario.search_arrays(dtype, settings.collision, settings.uses_legs)
+            sa = scenario.search_arrays(dtype, settings.collision, settings.uses_legs,
+                                        settings.turns)
             t0 = time.perf_counter()
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
@@ -251,11 +257,12 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
             bar.close()
     best = jax.tree.map(lambda *xs: np.concatenate(xs), *bests)
     t0 = time.perf_counter()
-    d = decode64(scenario, best.perm, best.labels, settings.collision)
+    legs = None if best.legs is None else np.asarray(best.legs, np.int32)
+    d = decode64(scenario, best.perm, best.labels, settings.collision, legs)
     return _Found(np.asarray(best.perm, np.int32), np.asarray(best.labels, np.int32),
                   best.generation.astype(np.int64), d.length.astype(np.float64),
                   d.violations.astype(np.int64), hist, compile_s, search_s,
-                  time.perf_counter() - t0)
+                  time.perf_counter() - t0, legs)
 
 
 def _gathered(found: _Found, runs: int) -> _Found:
@@ -266,6 +273,8 @@ def _gathered(found: _Found, runs: int) -> _Found:
     t0 = time.perf_counter()
     rows = {name: getattr(found, name)
             for name in ("perm", "labels", "generation", "length", "violations")}
+    if found.legs is not None:
+        rows["legs"] = found.legs
     rows.update({"history." + name: h.T for name, h in found.history.items()})
     every = distributed.gather_runs(rows, runs)
     times = distributed.allgather(np.array([found.compile_s, found.search_s], np.float64))

@@ -40,19 +40,21 @@ __all__ = ["RUNS", "Best", "GAState", "Population", "Record", "blank", "compiled
            "run_batch", "run_indices", "run_key", "step", "steps"]
 
 
-def _evaluated(sa, perm, labels, settings) -> Population:
+def _evaluated(sa, perm, labels, legs, settings) -> Population:
     if settings.penalty_weight != 1.0:
         sa = sa._replace(delta=sa.delta * settings.penalty_weight)
-    e = evaluate(sa, perm, positional(perm, labels, settings), settings.collision)
-    return Population(perm, labels, e.fitness, e.length, e.violations)
+    at = None if legs is None else positional(perm, legs, settings)
+    e = evaluate(sa, perm, positional(perm, labels, settings), settings.collision, at)
+    return Population(perm, labels, e.fitness, e.length, e.violations, legs)
 
 
 def _update_best(best: Best, pop: Population, generation, settings: GASettings) -> Best:
     """``best`` keeps positional labels whatever the population's binding."""
     i = jnp.argmax(pop.fitness)
     better = pop.fitness[i] > best.fitness
+    legs = None if pop.legs is None else positional(pop.perm[i], pop.legs[i], settings)
     cand = Best(pop.perm[i], positional(pop.perm[i], pop.labels[i], settings), pop.fitness[i],
-                pop.length[i], pop.violations[i], jnp.asarray(generation, jnp.int32))
+                pop.length[i], pop.violations[i], jnp.asarray(generation, jnp.int32), legs)
     return jax.tree.map(lambda new, old: jnp.where(better, new, old), cand, best)
 
 
@@ -83,18 +85,18 @@ def _restarts(state: GAState):
     return (g == 0) | ((g % r == 0) & (state.best.generation <= g - r))
 
 
-def _restarted(words, perm, labels, restart, sa, settings: GASettings):
-    """``perm, labels`` with fresh chromosomes (:func:`_fresh`, from the generation's
-    words) for a run that restarts. Drawn only when some run of the batch restarts
+def _restarted(words, chrom, restart, sa, settings: GASettings):
+    """``chrom = (perm, labels, legs)`` with fresh chromosomes (:func:`_fresh`, from the
+    generation's words) for a run that restarts. Drawn only when some run of the batch restarts
     (:func:`~hga_jax.search.jax_compat.any_run`): at most one generation in
     ``restart_after`` (seeded fresh chromosomes cost about three generations)."""
-    n = perm.shape[-1]
+    n = chrom[0].shape[-1]
 
-    def fresh(pl):
-        fp, fl = _fresh(words, n, settings, sa)
-        return jnp.where(restart, fp, pl[0]), jnp.where(restart, fl, pl[1])
+    def fresh(old):
+        return jax.tree.map(lambda f, o: jnp.where(restart, f, o),
+                            _fresh(words, n, settings, sa), old)
 
-    return jax.lax.cond(any_run(restart), fresh, lambda pl: pl, (perm, labels))
+    return jax.lax.cond(any_run(restart), fresh, lambda old: old, chrom)
 
 
 @fixed_stream
@@ -113,11 +115,11 @@ def step(key, state: GAState) -> GAState:
     words = _draw(key, sa.centres.shape[0], settings)
     restart = _restarts(state)
     pop = jax.tree.map(jnp.asarray, state.pop)  # a blank state's numpy arrays too
-    perm, labels = jax.lax.cond(  # children, unless every run of the batch restarts
+    chrom = jax.lax.cond(  # children, unless every run of the batch restarts
         any_run(~restart), lambda w: _vary(w, pop, settings, sa),
-        lambda w: (pop.perm, pop.labels), words)
-    perm, labels = _restarted(words, perm, labels, restart, sa, settings)
-    pop = _kept(_evaluated(sa, perm, labels, settings), state.pop, restart, settings)
+        lambda w: (pop.perm, pop.labels, pop.legs), words)
+    perm, labels, legs = _restarted(words, chrom, restart, sa, settings)
+    pop = _kept(_evaluated(sa, perm, labels, legs, settings), state.pop, restart, settings)
     best = _update_best(state.best, pop, g, settings)
     return GAState(pop, best, g + 1, sa, settings)
 

@@ -21,6 +21,9 @@ that depend on ``n`` (obstacles) and ``P`` (population) only:
 - ``path_mutation``: ``fn(key, perm, labels, legs) -> (perm, labels)``, positional
   labels, ``legs`` the scenario's :class:`~hga_jax.model.legs.Legs`
   (:mod:`hga_jax.search.path_ops`); the name ``"none"`` (no move) comes first.
+- ``leg_crossover``: ``fn(key, a, b) -> (a, b)``; leg genes (n + 2,) int32 in
+  ``{0, 1, 2}`` (free turns only: :mod:`hga_jax.search.leg_ops`).
+- ``leg_mutation``: ``fn(key, legs, rate) -> legs``; ``rate`` is ``settings.pm_legs``.
 
 How often an operator applies is the GA's business (``pc_*``, ``pm_upper``,
 ``pm_path``: one do-word per pair or individual), not the operator's.
@@ -50,7 +53,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator
 
 KINDS = ("selection", "perm_crossover", "perm_mutation", "label_crossover", "label_mutation",
-         "path_mutation")
+         "path_mutation", "leg_crossover", "leg_mutation")
 OPTIONS = ("settings",)  # what register() accepts as keyword options
 
 
@@ -164,7 +167,8 @@ def isolated() -> Iterator[None]:
 
 
 def _load_builtins() -> None:
-    from hga_jax.search import guided, label_ops, path_ops, perm_crossover, perm_mutation
+    from hga_jax.search import guided, label_ops, leg_ops, path_ops, perm_crossover
+    from hga_jax.search import perm_mutation
     from hga_jax.search import selection
 
     def add(kind, name, fn, **kw):
@@ -187,3 +191,6 @@ def _load_builtins() -> None:
     for name in ("flip", "drop", "insert", "shift", "repair", "mixed"):
         add("path_mutation", name, getattr(path_ops, name))
     add("path_mutation", "guided", guided.guided)
+    add("leg_crossover", "two_point", leg_ops.two_point)
+    add("leg_mutation", "redraw", leg_ops.redraw,
+        from_words=leg_ops.redraw_from_words, rows=lambda n, s: n + 2)

@@ -32,6 +32,16 @@ generation 0, without elites (0: never restart). The best-so-far is kept.
 budget grows with the scene; :meth:`GASettings.for_obstacles` resolves it (the
 runner does, and records the rule in ``result.json``). 0 (the paper): a fixed count.
 
+``turns``: the model of turns the GA searches. ``"tight-rope"`` (the paper's): the
+chromosome is the permutation and the labels. ``"free"`` (the car's shortest path,
+full collision rule only): a third module of leg genes, one per position (0 a straight
+tangent to the next touched circle, 1 or 2 a free circle of radius rho joining the
+two, on one side or the other: :mod:`hga_jax.model.free_legs`), crossed over by
+``leg_crossover`` with probability ``pc_legs`` per pair and mutated by
+``leg_mutation`` with probability ``pm_legs`` per gene; it rides with the labels'
+``label_binding``. Under the tight rope the leg settings do nothing and the random
+stream is the paper's.
+
 ``penalty_weight`` scales the paper's penalty per violation
 ``2*pi*R`` during the search (1 = the paper); reported lengths, feasibility and
 gaps do not depend on it.
@@ -78,6 +88,16 @@ class GASettings:
     seeding: float = 0.0
     restart_after: int = 0
     generations_per_obstacle: int = 0
+    turns: str = "tight-rope"
+    leg_crossover: str = "two_point"
+    leg_mutation: str = "redraw"
+    pc_legs: float = 0.4
+    pm_legs: float = 0.02
+
+    @property
+    def free(self) -> bool:
+        """Whether chromosomes carry leg genes (``turns = "free"``)."""
+        return self.turns == "free"
 
     def for_obstacles(self, n: int) -> GASettings:
         """The settings of a run on ``n`` obstacles: ``generations`` raised by
@@ -143,7 +163,8 @@ class GASettings:
                       f"got {self.generations_per_obstacle}")
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
-        for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding"):
+        for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
+                    "pc_legs", "pm_legs"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")
@@ -153,6 +174,7 @@ class GASettings:
         if isinstance(w, bool) or not isinstance(w, (int, float)) or not (
                 math.isfinite(w) and w > 0):
             raise bad("penalty_weight", f"must be a finite number > 0, got {w!r}")
+        from hga_jax.model.exact import TURNS
         from hga_jax.search import registry
 
         choices = [(kind, registry.names(kind)) for kind in registry.KINDS]
@@ -160,10 +182,15 @@ class GASettings:
             ("label_binding", LABEL_BINDINGS),
             ("collision", COLLISIONS),
             ("precision", PRECISIONS),
+            ("turns", TURNS),
         ]:
             v = getattr(self, key)
             if v not in allowed:
                 raise bad(key, f"must be one of {', '.join(allowed)}, got {v!r}")
+        if self.free and self.collision != "full":
+            raise bad("turns", "free turns need the full collision test (the paper's judges "
+                      f"no arc against an obstacle), got collision {self.collision!r} (from "
+                      f"{origins.get('collision', 'the default')})")
 
     @classmethod
     def from_mapping(

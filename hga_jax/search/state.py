@@ -27,6 +27,7 @@ class Population(NamedTuple):
     fitness: Any  # (P,)
     length: Any  # (P,) metres, without penalty
     violations: Any  # (P,) int32
+    legs: Any = None  # (P, n + 2) int32 leg genes (free turns), in the labels' binding
 
 
 class Best(NamedTuple):
@@ -38,6 +39,7 @@ class Best(NamedTuple):
     length: Any  # () metres
     violations: Any  # ()
     generation: Any  # () int32
+    legs: Any = None  # (n + 2,) positional leg genes (free turns), else None
 
 
 
@@ -71,10 +73,13 @@ def blank(problem: ScenarioArrays, settings: GASettings) -> GAState:
     runs), in the shapes and dtypes of every later state."""
     n, p = problem.centres.shape[0], settings.population
     dt = problem.centres.dtype
+    free = settings.free
     pop = Population(np.zeros((p, n), np.int32), np.zeros((p, n + 2), np.int32),
-                     np.zeros(p, dt), np.zeros(p, dt), np.zeros(p, np.int32))
+                     np.zeros(p, dt), np.zeros(p, dt), np.zeros(p, np.int32),
+                     np.zeros((p, n + 2), np.int32) if free else None)
     best = Best(np.zeros(n, np.int32), np.zeros(n + 2, np.int32), np.array(-np.inf, dt),
-                np.zeros((), dt), np.zeros((), np.int32), np.zeros((), np.int32))
+                np.zeros((), dt), np.zeros((), np.int32), np.zeros((), np.int32),
+                np.zeros(n + 2, np.int32) if free else None)
     return GAState(pop, best, np.zeros((), np.int32), problem, settings)
 
 

@@ -6,7 +6,9 @@ Operators come from :mod:`hga_jax.search.registry` (a built-in may read its rows
 of words directly; a registered one takes keys made from two rows each).
 Chromosomes: ``perm`` (P, n) int32 permutations of the obstacle indices,
 ``labels`` (P, n + 2) int32 in {-1, 0, +1} (+1 clockwise), in the population's
-label binding (:func:`positional` gives the decoder's order).
+label binding (:func:`positional` gives the decoder's order), and under free turns
+``legs`` (P, n + 2) int32 in {0, 1, 2} (:mod:`hga_jax.search.leg_ops`), bound as the
+labels are; None otherwise.
 """
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ import jax.numpy as jnp
 
 from hga_jax.model.scenario import ScenarioArrays
 
-from . import label_ops, path_ops, permutation, registry, rng
+from . import label_ops, leg_ops, path_ops, permutation, registry, rng
 from .settings import GASettings
 from .state import Population
 
@@ -61,7 +63,9 @@ def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
 # generation its selection's words (built-ins: 1 row, or ``tournament_size``), then a
 # do-word and two key words per pair (crossovers) or individual (mutations), then the
 # label mutation's words (the built-in redraw: one word per label gene). Pair rows use
-# their first P // 2 columns. Operators without a word-reading form (registry.Operator)
+# their first P // 2 columns. Free turns add rows after all of these: generation 0 the
+# words of its leg genes (n + 2), a later generation the leg crossover's (3) and the leg
+# mutation's (one word per gene); the tight rope draws the words it always did. Operators without a word-reading form (registry.Operator)
 # take keys, made from two words each (selection: one key per run, from column 0).
 
 def _word_rows(kind: str, n: int, settings: GASettings) -> int:
@@ -78,23 +82,33 @@ def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
              ("mutate_lower", _word_rows("label_mutation", n, settings)))
     if settings.path_mutation != "none":
         parts += (("mutate_path", 3),)
+    if settings.free:
+        parts += (("cross_legs", 3), ("mutate_legs", _word_rows("leg_mutation", n, settings)))
     out, row = {}, 0
     for name, rows in parts:
         out[name], row = (row, rows), row + rows
     return out
 
 
+def _fresh_rows(n: int, settings: GASettings) -> int:
+    """Rows before generation 0's leg words: ``2n + 2``, and 2 more with seeding."""
+    return 2 * n + 2 + (2 if settings.seeding > 0 else 0)
+
+
 def draw_rows(n: int, settings: GASettings) -> int:
     """Rows of words (of P each) every generation draws: enough for generation 0
-    (``2n + 2``, and 2 more with seeding) and for the later ones."""
+    (``2n + 2``, 2 more with seeding, ``n + 2`` more under free turns) and for the
+    later ones."""
     last = max(start + rows for start, rows in _layout(n, settings).values())
-    return max(2 * n + 2 + (2 if settings.seeding > 0 else 0), last)
+    first = _fresh_rows(n, settings) + (n + 2 if settings.free else 0)
+    return max(first, last)
 
 
 def _draw(key, n: int, settings: GASettings):
     return jax.random.bits(key, (draw_rows(n, settings), settings.population), dtype=jnp.uint32)
 
 
+STRAIGHT_SEEDS = False
 unit = rng.unit  # floats uniform on k / 2**24 from words (the one rule, in rng)
 
 
@@ -104,14 +118,20 @@ def _keys(rows):
 
 
 def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays | None = None):
-    """Generation 0's chromosomes from its words: random permutations and labels; with
-    ``seeding``, the first ``round(seeding * P)`` are then built by
-    :func:`hga_jax.search.path_ops.wrap_blockers` from their start and goal labels (keys
-    from rows ``2n + 2`` and ``2n + 3``)."""
+    """Generation 0's chromosomes from its words: random permutations and labels (and
+    leg genes under free turns); with ``seeding``, the first ``round(seeding * P)`` are
+    then built by :func:`hga_jax.search.path_ops.wrap_blockers` from their start and
+    goal labels (keys from rows ``2n + 2`` and ``2n + 3``), with straight legs (the
+    construction is a tight rope). Returns ``(perm, labels, legs)``, legs None under
+    the tight rope."""
     perm = permutation.permutation_from_words(words[:n].T)
     labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
+    genes = None
+    if settings is not None and settings.free:
+        first = _fresh_rows(n, settings)
+        genes = leg_ops.legs_from_words(words[first:first + n + 2].T)
     if settings is None or settings.seeding <= 0 or n == 0:
-        return perm, labels
+        return perm, labels, genes
     seeded = int(round(settings.seeding * perm.shape[0]))
     legs = _legs(sa)
     keys = _keys(words[2 * n + 2:2 * n + 4, :seeded])
@@ -119,7 +139,9 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     sp, sl = jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs))(keys, perm[:seeded],
                                                                            pos)
     sl = bound(sp, sl, settings)
-    return perm.at[:seeded].set(sp), labels.at[:seeded].set(sl)
+    if genes is not None and STRAIGHT_SEEDS:
+        genes = genes.at[:seeded].set(0)
+    return perm.at[:seeded].set(sp), labels.at[:seeded].set(sl), genes
 
 
 def _pairwise(rows, op, prob, a, b):
@@ -140,8 +162,9 @@ def _crossover(rows, op, prob, x):
 
 
 def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | None = None):
-    """Select parents from ``old`` and vary both modules: the children's chromosomes,
-    from the generation's words (see the layout above)."""
+    """Select parents from ``old`` and vary both modules (and the leg genes under free
+    turns): the children's ``(perm, labels, legs)``, from the generation's words (see
+    the layout above)."""
     n = old.perm.shape[1]
     at = _layout(n, settings)
 
@@ -155,6 +178,7 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
     else:
         idx = sel.fn(_keys(rows("select")[:, :1])[0], old.fitness, **sel.options(settings))
     perm, labels = old.perm[idx], old.labels[idx]
+    genes = None if old.legs is None else _vary_legs(rows, old.legs[idx], settings)
     if n >= 2:
         perm = _crossover(rows("cross_upper"), registry.get("perm_crossover", settings.perm_crossover),
                           settings.pc_upper, perm)
@@ -176,4 +200,14 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)
         do = (unit(m[0]) < settings.pm_path)[:, None]
         perm, labels = jnp.where(do, mp, perm), jnp.where(do, bound(mp, ml, settings), labels)
-    return perm, labels
+    return perm, labels, genes
+
+
+def _vary_legs(rows, legs, settings: GASettings):
+    """The leg genes of the selected parents, crossed over and mutated (free turns)."""
+    legs = _crossover(rows("cross_legs"), registry.get("leg_crossover", settings.leg_crossover),
+                      settings.pc_legs, legs)
+    mut = registry.entry("leg_mutation", settings.leg_mutation)
+    if mut.from_words is not None:
+        return mut.from_words(rows("mutate_legs").T, legs, settings.pm_legs)
+    return jax.vmap(lambda k, g: mut.fn(k, g, settings.pm_legs))(_keys(rows("mutate_legs")), legs)

@@ -33,12 +33,23 @@ def cell_id(config: Config, scene: Scene, seed: int, runs: int,
             yardstick: str = "tight-rope") -> str:
     """The cell's file name: a hash of what determines its runs and its gaps (the
     yardstick only when it is not the tight-rope optimum, so such ids stay as they were)."""
-    key = {"settings": dataclasses.asdict(config.settings), "scene": scene.text,
+    key = {"settings": _identity(config.settings), "scene": scene.text,
            "seed": seed, "runs": runs, "version": __version__}
     if yardstick != "tight-rope":
         key["yardstick"] = yardstick
     key = json.dumps(key, sort_keys=True)
     return hashlib.sha256(key.encode()).hexdigest()[:20]
+
+
+_LATER = ("turns", "leg_crossover", "leg_mutation", "pc_legs", "pm_legs")
+"""Settings added with free turns: left out of a tight-rope cell's id, which stays as it was."""
+
+
+def _identity(settings) -> dict[str, Any]:
+    values = dataclasses.asdict(settings)
+    if settings.turns == "tight-rope":
+        values = {k: v for k, v in values.items() if k not in _LATER}
+    return values
 
 
 class Store:
@@ -116,6 +127,6 @@ def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full
         **({"budget": res.budget} if res.budget else {}),
         "best": {"run": res.best_run, **{k: v for k, v in res.best.to_dict().items()
                                          if k in ("length", "feasible", "violations", "upper",
-                                                  "lower")}},
+                                                  "lower", "legs")}},
         "columns": columns, "curves": curves,
     }

@@ -1,0 +1,51 @@
+"""Genetic operators on the leg module of free-turn chromosomes: one gene per position.
+
+Conventions (:mod:`hga_jax.model.free_legs`):
+
+- Leg genes are a 1-D ``int32`` array of length ``L = n + 2``, positioned like the
+  labels (:mod:`hga_jax.search.label_ops`): the gene of a touched position picks the
+  leg from its circle to the next touched one, ``0`` a straight tangent, ``1`` or
+  ``2`` a free circle of radius rho on one side or the other. The goal's gene and
+  the genes of untouched positions are carried but not read.
+- Every value is allowed at every position (a free leg that does not exist reads
+  as straight), so crossover and mutation need no repair.
+- As elsewhere, operators work on ONE individual or ONE pair and jit and vmap.
+
+The settings' names are those of :mod:`hga_jax.search.registry` (``leg_crossover``:
+``two_point``, the labels' two-point crossover; ``leg_mutation``: ``redraw``).
+"""
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+from jax import Array
+
+from .label_ops import redraw_mask, two_point  # noqa: F401  (two_point: the crossover)
+from .permutation import int_from_words
+
+GENES = 3  # values 0, 1, 2
+
+
+def legs_from_words(words: Array) -> Array:
+    """Leg genes uniform over ``{0, 1, 2}`` from uint32 words (one per gene, last axis L)."""
+    return int_from_words(words, 0, GENES)
+
+
+def redraw_apply(legs: Array, mask: Array, choice: Array) -> Array:
+    """Change every masked gene to one of its two other values (``1 + choice`` steps
+    along the cycle ``0 -> 1 -> 2 -> 0``); unmasked genes are kept."""
+    new = (legs + 1 + choice.astype(legs.dtype)) % GENES
+    return jnp.where(mask, new, legs)
+
+
+def redraw_from_words(words: Array, legs: Array, pm: float | Array) -> Array:
+    """:func:`redraw` of genes ``(..., L)`` from one given uint32 word per gene (the
+    labels' rule: the top 24 bits against ``pm``, the lowest bit the choice)."""
+    return redraw_apply(legs, *redraw_mask(words, pm))
+
+
+def redraw(key: Array, legs: Array, pm: float | Array) -> Array:
+    """Per-gene mutation: each gene, with probability ``pm``, takes one of its two other
+    values, uniformly."""
+    return redraw_from_words(jax.random.bits(key, legs.shape[-1:], dtype=jnp.uint32), legs, pm)
+
