@@ -8,7 +8,8 @@ counts the scenes where that chromosome space reaches the free-turn optimum.
 
 Scenes: the studies' generators (random, obstructed, clusters) at 9, 15 and 25
 obstacles, and ``near``: the RoboCup field with uniform obstacles and a goal pose
-within 5 rho of the start (the distances where turn-turn-turn Dubins words win).
+within 5 rho of the start (the distances where turn-turn-turn Dubins words win), drawn
+as the ``loops`` family draws them but not filtered by its keep rule.
 
 Usage: ``python experiments/free_turns_share.py [--scenes 20] [--seed 7]``.
 """
@@ -24,28 +25,15 @@ import numpy as np
 from hga_jax import ConfigError, scenario_from_dict
 from hga_jax.model import free_legs
 from hga_jax.model.exact import solve
+from hga_jax.study import loops
 from hga_jax.study.scenes import generate
 
-FIELD = {"xmin": 0.0, "xmax": 2.8, "ymin": 0.0, "ymax": 2.3, "keep_inside": True}
-
-
 def near_scene(rng: np.random.Generator, n: int, name: str) -> dict:
-    """Uniform obstacles on the RoboCup field, start and goal poses 0-5 rho apart."""
-    rho, robot = 0.15, 0.09
+    """A ``loops`` candidate (:func:`hga_jax.study.loops.draw`) that is a valid scenario,
+    before the family's keep rule: how often free turns win is measured here."""
     while True:
-        sx, sy = rng.uniform(0.5, 2.3), rng.uniform(0.5, 1.8)
-        r, b = rng.uniform(0.0, 5.0) * rho, rng.uniform(-math.pi, math.pi)
-        gx, gy = sx + r * math.cos(b), sy + r * math.sin(b)
-        obstacles = []
-        while len(obstacles) < n:
-            x, y = rng.uniform(0.2, 2.6), rng.uniform(0.2, 2.1)
-            if min(math.hypot(x - sx, y - sy), math.hypot(x - gx, y - gy)) > 0.3:
-                obstacles.append({"x": x, "y": y, "radius": robot})
-        d = {"name": name, "robot": {"radius": robot, "min_turn_radius": rho},
-             "start": {"x": sx, "y": sy, "heading_deg": rng.uniform(-180, 180)},
-             "goal": {"x": gx, "y": gy, "heading_deg": rng.uniform(-180, 180)},
-             "obstacles": obstacles, "field": FIELD}
-        if not (0.3 < gx < 2.5 and 0.3 < gy < 2.0):
+        d = loops.draw("loops", rng, n, name)
+        if d is None:
             continue
         try:
             scenario_from_dict(d, name)

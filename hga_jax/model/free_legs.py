@@ -58,10 +58,15 @@ VARIANTS = 3
 class LegTable(NamedTuple):
     """Every leg of a free-turn chromosome, as arrays shaped ``(VARIANTS, C, C)``: entry
     ``[v, a, c]`` is the leg with gene ``v`` from oriented circle ``a`` to ``c`` (ids of
-    :mod:`hga_jax.model.tangents`). Gene 0 is the tangent of the scenario's tangent
-    table; genes 1 and 2 are the free leg on that side where :func:`table` lists one
-    (clear of every obstacle and the field), else a copy of the tangent (a gene with
-    no free leg to express reads as straight).
+    :mod:`hga_jax.model.tangents`).
+
+    - Gene 0: the tangent of the scenario's tangent table where it has no violation of
+      its own; where it has one (an obstacle, the field, no tangent) and a clear free
+      leg joins the two circles, the shorter such free leg instead (so a straight gene
+      never keeps a path on a blocked tangent that a free circle gets round).
+    - Genes 1 and 2: the free leg on side 0 or 1 where :func:`table` lists one (clear of
+      every obstacle and the field), else gene 0's leg (a gene with no free leg to
+      express reads as gene 0).
 
     p1x, p1y: where the leg leaves ``a``; p2x, p2y: where it arrives on ``c``. length:
     the tangent's length or the free arc's ``rho * sweep`` (m). exists, coincident,
@@ -85,29 +90,32 @@ class LegTable(NamedTuple):
 
 
 def leg_table(sc: Scenario, dtype=np.float64) -> LegTable:
-    """The :class:`LegTable` of ``sc`` in ``dtype``: gene 0 from ``sc.arrays(dtype)``'s
+    """The :class:`LegTable` of ``sc`` in ``dtype``: tangents from ``sc.arrays(dtype)``'s
     tangent table, the free legs computed in float64 and cast."""
     tb = sc.arrays(dtype).tangents
     c = np.asarray(tb.circles).shape[0]
-
-    def three(v, dt):
-        return np.repeat(np.asarray(v, dt)[None], VARIANTS, axis=0)
-
-    cols = {name: three(getattr(tb, name), dtype) for name in
-            ("p1x", "p1y", "p2x", "p2y", "length", "exists", "coincident")}
-    cols["exists"] = cols["exists"].astype(dtype)
-    cols["coincident"] = cols["coincident"].astype(dtype)
-    cols["violations"] = three(tb.violations_full, dtype)
-    cols["free"] = np.zeros((VARIANTS, c, c), bool)
+    straight = {name: np.asarray(getattr(tb, name), dtype) for name in
+                ("p1x", "p1y", "p2x", "p2y", "length", "exists", "coincident")}
+    straight["violations"] = np.asarray(tb.violations_full, dtype)
+    straight["free"] = np.zeros((c, c), bool)
     for name in ("fx", "fy", "sweep"):
-        cols[name] = np.zeros((VARIANTS, c, c), dtype)
+        straight[name] = np.zeros((c, c), dtype)
     legs = table(sc)
-    at = (legs.side + 1, legs.S, legs.T)
     rho = float(sc.min_turn_radius)
-    for name, value in (("p1x", legs.p1x), ("p1y", legs.p1y), ("p2x", legs.p2x),
-                        ("p2y", legs.p2y), ("length", rho * legs.sweep), ("exists", 1.0),
-                        ("coincident", 0.0), ("violations", 0.0), ("free", True),
-                        ("fx", legs.fx), ("fy", legs.fy), ("sweep", legs.sweep)):
+    free = {"p1x": legs.p1x, "p1y": legs.p1y, "p2x": legs.p2x, "p2y": legs.p2y,
+            "length": rho * legs.sweep, "exists": 1.0, "coincident": 0.0, "violations": 0.0,
+            "free": True, "fx": legs.fx, "fy": legs.fy, "sweep": legs.sweep}
+    # Gene 0 where the tangent is bad: the shorter clear free leg (the longer one first,
+    # so that the shorter one is written last and stays).
+    bad = straight["violations"][legs.S, legs.T] > 0
+    order = np.argsort(-legs.sweep[bad], kind="stable")
+    rows = np.flatnonzero(bad)[order]
+    zero = {name: v.copy() for name, v in straight.items()}
+    for name, value in free.items():
+        zero[name][legs.S[rows], legs.T[rows]] = value if np.ndim(value) == 0 else value[rows]
+    cols = {name: np.repeat(v[None], VARIANTS, axis=0) for name, v in zero.items()}
+    at = (legs.side + 1, legs.S, legs.T)
+    for name, value in free.items():
         cols[name][at] = value
     return LegTable(**cols)
 

@@ -18,6 +18,10 @@ obstacles its segment passes through. They never search over whole paths.
 Nothing here depends on a path: an arc's length and violations depend on the
 legs before and after it, and only decoding a chromosome gives them.
 
+Under free turns (:func:`free_aware`) a pair whose tangent is bad but whose leg gene 0
+runs over a clear free circle (:class:`~hga_jax.model.free_legs.LegTable`) counts as
+clear, with that leg's length: the operators see the legs the decoder will take.
+
 Host code (numpy), built once per scenario from the float64 tangent table.
 """
 from __future__ import annotations
@@ -56,3 +60,13 @@ def build(tb: TangentTable, centres, model_radii, penalty: float = 0.0) -> Legs:
     return Legs(blockers=hits, blocked=np.any(hits, axis=-1),
                 length=np.asarray(tb.length, f8), bad=np.asarray(tb.violations_full) > 0,
                 penalty=np.asarray(penalty, f8))
+
+
+def free_aware(legs: Legs, table) -> Legs:
+    """``legs`` with the pairs whose gene-0 leg of the float64 leg ``table`` is free
+    made clear (no blockers, not bad) and given that leg's length."""
+    free = np.asarray(table.free[0], bool)
+    return legs._replace(blockers=legs.blockers & ~free[..., None], blocked=legs.blocked & ~free,
+                         bad=legs.bad & ~free,
+                         length=np.where(free, np.asarray(table.length[0], np.float64),
+                                         legs.length))

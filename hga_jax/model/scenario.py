@@ -116,9 +116,13 @@ class Scenario:
                 s64 = self.arrays(np.float64)
                 self._turns["legs"] = legs.build(s64.tangents, s64.centres, s64.model_radii,
                                                  self.delta)
-            typed = ("legs", np.dtype(dtype).name)  # lengths in the search's dtype
+            which = "legs" if turns != "free" else "legs_free"
+            if which not in self._turns:
+                self._turns[which] = legs.free_aware(self._turns["legs"],
+                                                     self.leg_table(np.float64))
+            typed = (which, np.dtype(dtype).name)  # lengths in the search's dtype
             if typed not in self._turns:
-                lg = self._turns["legs"]
+                lg = self._turns[which]
                 self._turns[typed] = lg._replace(length=np.asarray(lg.length, dtype),
                                                  penalty=np.asarray(lg.penalty, dtype))
             sa = sa._replace(legs=self._turns[typed])

@@ -37,7 +37,9 @@ TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses"
        "families", "configs", "quick", "yardstick"}
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
-KINDS = ("clutter", "obstructed", "clusters")
+KINDS = ("clutter", "obstructed", "clusters", "loops", "cluster_loops")
+"""Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters` and, for
+free turns, :mod:`~hga_jax.study.loops`."""
 ANALYSES = ("paper", "penalty", "scaling")
 
 
@@ -109,7 +111,8 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
     key = "quick.obstacles" if "obstacles" in quick else f"{where}.obstacles"
     if not isinstance(obs, list) or not obs:
         raise _err(source, key, f"must be a non-empty list of integers, got {obs!r}")
-    obs = tuple(_int(n, source, key, 1 if t["kind"] == "clutter" else 3, 1001) for n in obs)
+    least = 3 if t["kind"] in ("obstructed", "clusters") else 1
+    obs = tuple(_int(n, source, key, least, 1001) for n in obs)
     scenes = _int(quick.get("scenes", t.get("scenes", 1)), source, f"{where}.scenes", 1, 10_001)
     density = t.get("density")
     if density is not None and (isinstance(density, bool) or not isinstance(density, (int, float))
@@ -119,6 +122,9 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
     if density is not None and t["kind"] == "clusters":
         raise _err(source, f"{where}.density", "not used by kind clusters (each scene draws "
                    "its own, 0.8 to 2.0 obstacles per square metre); remove it")
+    if density is not None and t["kind"] in ("loops", "cluster_loops"):
+        raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (its fields "
+                   "are fixed or drawn per scene); remove it")
     return Family(t["name"], t["kind"], obs, scenes,
                   _int(t.get("seed", 0), source, f"{where}.seed", *validation.SEED),
                   None if density is None else float(density))

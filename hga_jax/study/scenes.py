@@ -13,9 +13,12 @@ right edge, headings within 60 degrees of +x.
   exact optimum wraps at least three obstacles.
 - ``clusters`` (:mod:`hga_jax.study.clusters`): held-out scenes by another rule
   (clumps, per-scene robot and field, any headings), blocked as ``obstructed``.
+- ``loops`` and ``cluster_loops`` (:mod:`hga_jax.study.loops`): poses a few turning
+  radii apart, kept where free turns beat the tight rope (for ``turns = "free"``).
 
 Every kept scene has a feasible optimum that a chromosome expresses (touching
-each obstacle at most once), so a GA run can hit it. Scene ``i`` with ``n``
+each obstacle at most once; with leg genes for the free-turn families), so a GA run
+can hit it. Scene ``i`` with ``n``
 obstacles of a family with seed ``s`` depends on ``(s, n, i)`` alone.
 """
 from __future__ import annotations
@@ -97,6 +100,10 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
         from . import clusters
 
         return clusters.generate(n, seed, index, name, density)
+    if kind in ("loops", "cluster_loops"):
+        from . import loops
+
+        return loops.generate(kind, n, seed, index, name, density)
     rng = np.random.default_rng([seed, n, index])
     w, h = field_size(n, density)
     for _ in range(MAX_TRIES):

@@ -1,0 +1,197 @@
+"""Free turns in the GA: the leg module (one leg gene per position), its leg table and
+turn table against the leg-by-leg decoder, every decoded path against the independent
+path check, runs that hit the free-turn optimum, and the tight rope left as it was."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import _families
+import jax
+import numpy as np
+import pytest
+from test_free_turns import _loop_scene, check_path, pose_scene
+
+from hga_jax import scenario_from_dict
+from hga_jax.errors import ConfigError
+from hga_jax.model import free_legs
+from hga_jax.model.decode import decode_batch
+from hga_jax.model.exact import solve
+from hga_jax.model.fitness import looked_up
+from hga_jax.model.path import decode64, evaluate_path, legs_from_list, segments_length
+from hga_jax.running.runner import run_many
+from hga_jax.search.settings import PAPER, RECOMMENDED, GASettings
+from hga_jax.study import loops
+
+FREE_RECOMMENDED = dataclasses.replace(RECOMMENDED, turns="free")
+
+
+def _scenes():
+    """Loop scenes (free turns win), the degenerate families, and uniform ones."""
+    out = [("loop", _loop_scene())]
+    for kind in loops.KINDS:
+        out.append((kind, scenario_from_dict(loops.generate(kind, 6, 71, 0, kind), kind)))
+    for family in ("grid", "overlapping", "degenerate"):
+        for i, d in enumerate(_families.scenes(family, 17, 2)):
+            out.append((f"{family}{i}", scenario_from_dict(d, family)))
+    return out
+
+
+SCENES = _scenes()
+
+
+def _genes(rng, count, n):
+    return rng.integers(0, 3, (count, n + 2)).astype(np.int32)
+
+
+@pytest.mark.parametrize("name, sc", SCENES, ids=[s[0] for s in SCENES])
+def test_turn_table_with_leg_genes_equals_the_decoder(name, sc):
+    rng = np.random.default_rng(3)
+    perm, labels = _families.chromosomes(rng, sc.n, 400)
+    legs = _genes(rng, 400, sc.n)
+    with jax.enable_x64(True):
+        sa = sc.search_arrays(np.float64, "full", turns="free")
+        d = decode_batch(sa, perm, labels, "full", legs)
+        if sa.turns_free is None:  # coincident centres: the fitness decodes leg by leg
+            assert sc.search_arrays(np.float64, "full").turns_full is None  # as on the rope
+            return
+        length, viol = looked_up(sa.turns_free, sa.tangents.circles.shape[0], perm, labels, legs)
+    np.testing.assert_allclose(np.asarray(length), np.asarray(d.length), rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(np.asarray(viol), np.asarray(d.violations))
+
+
+@pytest.mark.parametrize("name, sc", SCENES, ids=[s[0] for s in SCENES])
+def test_gene_zero_is_the_tight_rope_where_the_tight_rope_is_clear(name, sc):
+    rng = np.random.default_rng(5)
+    perm, labels = _families.chromosomes(rng, sc.n, 400)
+    with jax.enable_x64(True):
+        sa = sc.search_arrays(np.float64, "full", turns="free")
+        tight = decode_batch(sa, perm, labels, "full")
+        zero = decode_batch(sa, perm, labels, "full", np.zeros((400, sc.n + 2), np.int32))
+    clear = np.asarray(tight.violations) == 0
+    assert clear.any()
+    np.testing.assert_array_equal(np.asarray(zero.length)[clear], np.asarray(tight.length)[clear])
+    assert (np.asarray(zero.violations)[clear] == 0).all()
+    real = np.arange(sc.n + 1)[None] < (np.asarray(zero.count) - 1)[:, None]
+    assert not (np.asarray(zero.free)[..., 3] * real)[clear].any()  # no free leg on them
+
+
+@pytest.mark.parametrize("name, sc", SCENES[:3], ids=[s[0] for s in SCENES[:3]])
+def test_free_legs_touch_both_circles_from_outside(name, sc):
+    lt = free_legs.leg_table(sc)
+    x, y, r, sign, _ = sc.circles(np.float64)
+    rho = sc.min_turn_radius
+    v, a, c = np.nonzero(lt.free)
+    assert v.size
+    fx, fy = lt.fx[v, a, c], lt.fy[v, a, c]
+    for px, py, k in ((lt.p1x, lt.p1y, a), (lt.p2x, lt.p2y, c)):
+        p = np.stack([px[v, a, c], py[v, a, c]])
+        np.testing.assert_allclose(np.hypot(p[0] - x[k], p[1] - y[k]), r[k], atol=1e-9)
+        np.testing.assert_allclose(np.hypot(p[0] - fx, p[1] - fy), rho, atol=1e-9)
+        np.testing.assert_allclose(np.hypot(fx - x[k], fy - y[k]), r[k] + rho, atol=1e-9)
+    assert (sign[a] == sign[c]).all()  # the free circle turns against both
+    np.testing.assert_allclose(lt.length[v, a, c], rho * lt.sweep[v, a, c], rtol=1e-12)
+
+
+@pytest.mark.parametrize("name, sc", SCENES[:3], ids=[s[0] for s in SCENES[:3]])
+def test_decoded_free_paths_pass_the_independent_check(name, sc):
+    rng = np.random.default_rng(11)
+    perm, labels = _families.chromosomes(rng, sc.n, 2000, p_zero=0.8)
+    legs = _genes(rng, 2000, sc.n)
+    d = decode64(sc, perm, labels, "full", legs)
+    feasible = np.flatnonzero(d.violations == 0)
+    assert feasible.size >= 10
+    free_opt = solve(sc, turns="free").length
+    assert (d.length[feasible] >= free_opt - 1e-9).all()  # nothing beats the exact optimum
+    with_free = 0
+    for k in feasible[:25]:
+        p = evaluate_path(sc, perm[k], labels[k], "full", legs[k])
+        assert p.feasible and p.length == d.length[k]
+        check_path(sc, p.segments, p.length)
+        assert segments_length(p.segments) == pytest.approx(p.length, abs=1e-9)
+        with_free += any(s.get("free") for s in p.segments)
+    assert with_free >= 3
+
+
+def test_recommended_ga_with_free_turns_hits_the_loop():
+    sc = _loop_scene()
+    res = run_many(sc, FREE_RECOMMENDED, seed=2, runs=20)
+    assert res.optimum.turns == "free"
+    assert res.optimum_length < 0.7 * res.optimum.tight_rope_length
+    assert res.hit.mean() >= 0.95 and res.feasible.all()
+    assert any(s.get("free") for s in res.best.segments)
+    check_path(sc, res.best.segments, res.best.length)
+    assert res.best.length == pytest.approx(res.optimum_length, abs=1e-9)
+
+
+def test_a_run_alone_equals_the_same_run_in_a_batch_under_free_turns():
+    sc = _loop_scene()
+    st = dataclasses.replace(PAPER, turns="free", generations=10)
+    batch = run_many(sc, st, seed=4, runs=6, exact=False)
+    alone = run_many(sc, st, seed=4, runs=1, first_run=3, exact=False)
+    np.testing.assert_array_equal(alone.legs[0], batch.legs[3])
+    np.testing.assert_array_equal(alone.labels[0], batch.labels[3])
+    assert alone.length[0] == batch.length[3]
+
+
+def test_tight_rope_runs_ignore_the_leg_settings():
+    sc = _loop_scene()
+    st = dataclasses.replace(PAPER, generations=8)
+    a = run_many(sc, st, seed=1, runs=5, exact=False)
+    b = run_many(sc, dataclasses.replace(st, pc_legs=1.0, pm_legs=0.5), seed=1, runs=5,
+                 exact=False)
+    assert a.legs is None and b.legs is None and "legs" not in a.best.to_dict()
+    np.testing.assert_array_equal(a.perm, b.perm)
+    np.testing.assert_array_equal(a.labels, b.labels)
+    np.testing.assert_array_equal(a.length, b.length)
+
+
+def test_free_turns_need_the_full_collision_test():
+    with pytest.raises(ConfigError, match=r"ga.turns: free turns need the full collision"):
+        GASettings.from_mapping({"turns": "free", "collision": "paper"}, "s.toml")
+    with pytest.raises(ConfigError, match=r"turns: must be one of tight-rope, free"):
+        GASettings.from_mapping({"turns": "loose"}, "s.toml")
+    with pytest.raises(ConfigError, match=r"legs: must be 5 leg genes"):
+        legs_from_list([0, 1, 3, 0, 0], 3)
+    assert legs_from_list(None, 3) is None
+
+
+def test_run_command_with_free_turns_writes_leg_genes(tmp_path, capsys):
+    from hga_jax.host.cli import main
+    from hga_jax.host.report import redraw
+    from hga_jax.study.scenes import to_toml
+
+    d = pose_scene((0.0, 0.0, 0.0), (0.1, 0.05, math.pi), obstacles=[
+        {"x": -0.3, "y": 0.35, "radius": 0.05}, {"x": 0.6, "y": 0.0, "radius": 0.05}])
+    path = tmp_path / "loop.toml"
+    path.write_text(to_toml(d))
+    out = tmp_path / "run"
+    assert main(["run", str(path), "--turns", "free", "--runs", "6", "--out", str(out),
+                 "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "free-turn optimum" in printed and "free turns: leg genes" in printed
+    data = json.loads((out / "result.json").read_text())
+    assert data["settings"]["turns"] == "free" and data["optimum"]["turns"] == "free"
+    best = data["best"]
+    assert len(best["legs"]) == 4 and all(len(r["legs"]) == 4 for r in data["per_run"])
+    assert data["summary"]["hit_rate"] == 1.0
+    assert [s for s in best["segments"] if s.get("free")]
+    fig = redraw(str(out / "result.json"), run=data["per_run"][0]["run"])
+    assert [ln for ln in fig.axes[0].lines if ln.get_gid() == "free_arc"]
+    code = main(["run", str(path), "--turns", "free", "--collision", "paper", "--out",
+                 str(tmp_path / "p")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "free turns need the full collision" in err[0]
+
+
+@pytest.mark.parametrize("kind", loops.KINDS)
+def test_loop_families_keep_only_scenes_where_free_turns_win(kind):
+    d = loops.generate(kind, 7, 72, 1, "s")
+    assert d == loops.generate(kind, 7, 72, 1, "s")  # (seed, n, index) alone
+    sc = scenario_from_dict(d, "s")
+    free = solve(sc, turns="free")
+    assert free.feasible and free.length <= (1 - loops.MIN_SAVING) * free.tight_rope_length
+    assert free_legs.shortest(sc)[0] == pytest.approx(free.length, abs=1e-9)
+    start, goal = np.asarray(sc.start[:2]), np.asarray(sc.goal[:2])
+    assert np.hypot(*(goal - start)) <= loops.REACH * sc.min_turn_radius + 1e-3
