@@ -52,3 +52,11 @@ def test_benchmark_quick(tmp_path):
 
 def test_benchmark_exact():
     _run("experiments/bench_exact.py", "--scenes", "8", "--repeats", "5")
+
+
+def test_benchmark_free_turns():
+    proc = _run("experiments/bench_free_turns.py", "--quick")
+    rows = [line.split() for line in proc.stdout.splitlines() if line.strip().startswith("9 ")]
+    assert [r[1] for r in rows] == ["paper", "recommended"]
+    for r in rows:  # the ratio is tight / free as printed
+        assert float(r[4]) == pytest.approx(float(r[2]) / float(r[3]), rel=0.02, abs=0.02)

@@ -15,7 +15,7 @@ from test_free_turns import _loop_scene, check_path, pose_scene
 
 from hga_jax import scenario_from_dict
 from hga_jax.errors import ConfigError
-from hga_jax.model import free_legs
+from hga_jax.model import free_legs, leg_space
 from hga_jax.model.decode import decode_batch
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import looked_up
@@ -51,7 +51,7 @@ def test_turn_table_with_leg_genes_equals_the_decoder(name, sc):
     perm, labels = _families.chromosomes(rng, sc.n, 400)
     legs = _genes(rng, 400, sc.n)
     with jax.enable_x64(True):
-        sa = sc.search_arrays(np.float64, "full", turns="free")
+        sa = free_legs.search_arrays(sc, np.float64)
         d = decode_batch(sa, perm, labels, "full", legs)
         if sa.turns_free is None:  # coincident centres: the fitness decodes leg by leg
             assert sc.search_arrays(np.float64, "full").turns_full is None  # as on the rope
@@ -66,7 +66,7 @@ def test_gene_zero_is_the_tight_rope_where_the_tight_rope_is_clear(name, sc):
     rng = np.random.default_rng(5)
     perm, labels = _families.chromosomes(rng, sc.n, 400)
     with jax.enable_x64(True):
-        sa = sc.search_arrays(np.float64, "full", turns="free")
+        sa = free_legs.search_arrays(sc, np.float64)
         tight = decode_batch(sa, perm, labels, "full")
         zero = decode_batch(sa, perm, labels, "full", np.zeros((400, sc.n + 2), np.int32))
     clear = np.asarray(tight.violations) == 0
@@ -192,6 +192,6 @@ def test_loop_families_keep_only_scenes_where_free_turns_win(kind):
     sc = scenario_from_dict(d, "s")
     free = solve(sc, turns="free")
     assert free.feasible and free.length <= (1 - loops.MIN_SAVING) * free.tight_rope_length
-    assert free_legs.shortest(sc)[0] == pytest.approx(free.length, abs=1e-9)
+    assert leg_space.shortest(sc)[0] == pytest.approx(free.length, abs=1e-9)
     start, goal = np.asarray(sc.start[:2]), np.asarray(sc.goal[:2])
     assert np.hypot(*(goal - start)) <= loops.REACH * sc.min_turn_radius + 1e-3

@@ -366,23 +366,23 @@ def test_a_free_loop_held_by_a_wall(q0, q1, tight_feasible):
 def test_free_legs_express_every_dubins_word():
     """A chromosome with one gene per leg (straight, or a free circle touching both
     neighbours) reaches the Dubins distance between any two poses."""
-    from hga_jax.model import free_legs
+    from hga_jax.model import leg_space
 
     for q0, q1 in _pairs(400, 5):
         sc = scenario_from_dict(pose_scene(q0, q1), "pair")
-        length, segs, _, _ = free_legs.shortest(sc)
+        length, segs, _, _ = leg_space.shortest(sc)
         assert abs(length - dubins(sc.start, sc.goal, RHO)[0]) <= 1e-9 * RHO
         check_path(sc, segs, length)
 
 
 @pytest.mark.parametrize("family", ["grid", "random"])
 def test_free_legs_lie_between_the_two_optima(family):
-    from hga_jax.model import free_legs
+    from hga_jax.model import free_legs, leg_space
 
     for i, d in enumerate(_families.scenes(family, 31, 6)):
         sc = scenario_from_dict(d, f"{family}{i}")
         free = solve(sc, turns="free")
-        length, segs, _, arcs = free_legs.shortest(sc)
+        length, segs, _, arcs = leg_space.shortest(sc)
         assert free.length <= length + 1e-9 and length <= free.tight_rope_length + 1e-9
         if math.isfinite(length):
             check_path(sc, segs, length)

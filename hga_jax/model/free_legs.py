@@ -10,24 +10,24 @@ leg (straight, or free on side 0 or 1) expresses the turn-turn-turn Dubins words
 every free loop that touches its neighbours, but not a free circle held by an
 obstacle or a wall that it does not turn on (:mod:`hga_jax.model.free_turns`).
 
-:func:`table` lists every feasible free leg of a scenario; :func:`shortest` finds
-the best path of that chromosome space exactly (each obstacle touched at most once,
-as a chromosome does), so that the share of free-turn optima it reaches can be
-measured; :func:`leg_table` is what the GA's decoder and turn table read. Host code
-(numpy, float64 unless a dtype is given); metres and radians.
+:func:`table` lists every feasible free leg of a scenario; :func:`leg_table` is what
+the GA's decoder and turn table read, and :func:`search_arrays` the scenario's device
+arrays with both (:mod:`hga_jax.model.leg_space` finds the best path of this chromosome
+space exactly). Host code (numpy, float64 unless a dtype is given); metres and radians.
 """
 from __future__ import annotations
 
-import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from hga_jax.model import geometry as g
 
+from hga_jax.model import legs as leg_info
+from hga_jax.model import turns as turn_tables
+
 from . import free_circles, free_turns
-from .graph_search import search, walk
-from .scenario import Scenario
+from .scenario import Scenario, ScenarioArrays
 
 TOL = g.tolerances(np.float64)
 
@@ -89,9 +89,44 @@ class LegTable(NamedTuple):
     sweep: np.ndarray
 
 
-def leg_table(sc: Scenario, dtype=np.float64) -> LegTable:
-    """The :class:`LegTable` of ``sc`` in ``dtype``: tangents from ``sc.arrays(dtype)``'s
-    tangent table, the free legs computed in float64 and cast."""
+def leg_table(sc: Scenario, dtype: Any = np.float64) -> LegTable:
+    """The :class:`LegTable` of ``sc`` in ``dtype`` (built once per dtype): tangents from
+    ``sc.arrays(dtype)``'s tangent table, the free legs computed in float64 and cast."""
+    dtype = np.dtype(dtype)
+    return sc.cached(("leg_table", dtype.name), lambda: _leg_table(sc, dtype))
+
+
+def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
+                  ) -> ScenarioArrays:
+    """:meth:`Scenario.search_arrays` (full collision rule) for free-turn chromosomes: with
+    the :class:`LegTable` (``free_legs``) and its turn table (``turns_free``, None when it
+    is too large or centres coincide: the fitness then decodes leg by leg), and with the
+    path operators' legs seeing gene 0's free legs (:func:`hga_jax.model.legs.free_aware`)."""
+    dtype = np.dtype(dtype)
+    sa = sc.search_arrays(dtype, "full", with_legs)
+
+    def turns():
+        if not turn_tables.fits(sc.n, VARIANTS):
+            return None
+        s64 = sc.arrays(np.float64)
+        built = turn_tables.build(s64.tangents, s64.start, s64.goal, s64.centres,
+                                  s64.model_radii, s64.bounds, "full", leg_table(sc))
+        return np.asarray(built.entries, dtype) if built.usable else None
+
+    sa = sa._replace(free_legs=leg_table(sc, dtype),
+                     turns_free=sc.cached(("turns_free", dtype.name), turns))
+    if with_legs:
+        def aware():
+            lg = leg_info.free_aware(sc.search_arrays(np.float64, "full", True).legs,
+                                     leg_table(sc))
+            return lg._replace(length=np.asarray(lg.length, dtype),
+                               penalty=np.asarray(lg.penalty, dtype))
+
+        sa = sa._replace(legs=sc.cached(("legs_free", dtype.name), aware))
+    return sa
+
+
+def _leg_table(sc: Scenario, dtype: np.dtype) -> LegTable:
     tb = sc.arrays(dtype).tangents
     c = np.asarray(tb.circles).shape[0]
     straight = {name: np.asarray(getattr(tb, name), dtype) for name in
@@ -145,44 +180,3 @@ def table(sc: Scenario) -> FreeLegs:
     ok = free_turns.arcs_clear(circ, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp),
                                 sc.arrays(np.float64))
     return FreeLegs(*(v[ok] for v in (a, b, side, fx, fy, fs, p1x, p1y, p2x, p2y, swp)))
-
-
-def shortest(sc: Scenario):
-    """The best path a chromosome with free legs expresses: ``(length, segments, touched,
-    free_arcs)`` as :func:`hga_jax.model.free_turns.shortest` (inf and empty lists when
-    none is feasible or the label budget of the search runs out)."""
-    from .exact import _tangents
-
-    sa = sc.arrays(np.float64)
-    circ = sc.circles(np.float64)
-    S, T, t, ok, _ = _tangents(sa, True)
-    legs = table(sc)
-    rho = float(sc.min_turn_radius)
-    e = int(ok.sum())
-    pieces = (np.r_[S[ok], legs.S], np.r_[T[ok], legs.T], np.r_[t.p1x[ok], legs.p1x],
-              np.r_[t.p1y[ok], legs.p1y], np.r_[t.p2x[ok], legs.p2x], np.r_[t.p2y[ok], legs.p2y],
-              np.r_[t.length[ok], rho * legs.sweep])
-    gr = free_turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]])
-    h = np.hypot(gr.nx - float(sc.goal[0]), gr.ny - float(sc.goal[1])).tolist()
-    length, edges, _ = search(gr, h, distinct=True)
-    if not edges:
-        return math.inf, [], [], 0
-    circs, segs = walk(gr, edges)
-    lines = iter(i for i, s in enumerate(segs) if s["type"] == "line")
-    free = 0
-    for k in edges:
-        u = int(gr.src[k])
-        if gr.arc_circle[k] >= 0 or gr.w[k] <= 0.0:
-            continue
-        i = next(lines)
-        if 4 + e <= u < 4 + len(pieces[0]):  # a free leg: an arc on its free circle
-            j = u - 4 - e
-            segs[i] = {"type": "arc", "center": [float(legs.fx[j]), float(legs.fy[j])],
-                       "radius": rho, "sweep": float(-legs.sign[j] * legs.sweep[j]),
-                       "start_angle": float(math.atan2(legs.p1y[j] - legs.fy[j],
-                                                       legs.p1x[j] - legs.fx[j])),
-                       "free": True}
-            free += 1
-    own, sg = circ[4], circ[3]
-    touched = [(int(own[c]), int(sg[c])) for c in circs if c >= 4]
-    return float(length), segs, touched, free

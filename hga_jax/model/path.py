@@ -20,6 +20,7 @@ import numpy as np
 
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
+from . import free_legs
 from .decode import decode_batch
 from hga_jax.errors import ConfigError
 from .scenario import Scenario
@@ -51,7 +52,7 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full", legs=Non
     with jax.enable_x64(True):
         sa = scenario.arrays(np.float64)
         if legs is not None:
-            sa = sa._replace(free_legs=scenario.leg_table(np.float64))
+            sa = sa._replace(free_legs=free_legs.leg_table(scenario))
         for i in range(0, rows + pad, BLOCK):
             d = _decode(sa, perm[i:i + BLOCK], labels[i:i + BLOCK], collision=collision,
                         legs=None if legs is None else legs[i:i + BLOCK])

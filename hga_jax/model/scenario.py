@@ -99,30 +99,22 @@ class Scenario:
         return self._arrays[key]
 
     def search_arrays(self, dtype: Any = np.float32, collision: str = "full",
-                      with_legs: bool = False, turns: str = "tight-rope") -> "ScenarioArrays":
+                      with_legs: bool = False) -> "ScenarioArrays":
         """:meth:`arrays` with the turn table of ``collision`` (``"full"`` or ``"paper"``)
         in ``dtype``, when it is usable and not too large (:func:`hga_jax.model.turns.fits`);
         otherwise without one, and the fitness decodes leg by leg. Built once per mode
         (from the float64 tangent table), cast per dtype. ``with_legs``: also the
         per-leg blockers that the path operators read (:mod:`hga_jax.model.legs`).
-        ``turns = "free"``: also the legs of free-turn chromosomes and their turn table
-        (:mod:`hga_jax.model.free_legs`; the full collision rule), which the fitness reads
-        when it is given leg genes."""
+        Free-turn chromosomes take :func:`hga_jax.model.free_legs.search_arrays`."""
         sa = self.arrays(dtype)
-        if turns == "free":
-            sa = sa._replace(**self._free_arrays(np.dtype(dtype)))
         if with_legs:
             if "legs" not in self._turns:
                 s64 = self.arrays(np.float64)
                 self._turns["legs"] = legs.build(s64.tangents, s64.centres, s64.model_radii,
                                                  self.delta)
-            which = "legs" if turns != "free" else "legs_free"
-            if which not in self._turns:
-                self._turns[which] = legs.free_aware(self._turns["legs"],
-                                                     self.leg_table(np.float64))
-            typed = (which, np.dtype(dtype).name)  # lengths in the search's dtype
+            typed = ("legs", np.dtype(dtype).name)  # lengths in the search's dtype
             if typed not in self._turns:
-                lg = self._turns[which]
+                lg = self._turns["legs"]
                 self._turns[typed] = lg._replace(length=np.asarray(lg.length, dtype),
                                                  penalty=np.asarray(lg.penalty, dtype))
             sa = sa._replace(legs=self._turns[typed])
@@ -140,31 +132,12 @@ class Scenario:
         field = "turns_full" if collision == "full" else "turns_paper"
         return sa._replace(**{field: np.asarray(table, sa.centres.dtype)})
 
-    def leg_table(self, dtype: Any = np.float64):
-        """The :class:`~hga_jax.model.free_legs.LegTable` of free-turn chromosomes in
-        ``dtype`` (built once per dtype)."""
-        from hga_jax.model import free_legs
-
-        key = ("leg_table", np.dtype(dtype).name)
+    def cached(self, key: Any, build: Any) -> Any:
+        """``build()``, made once per ``key`` and kept with the scenario (the tables that
+        other modules derive from it, such as :mod:`hga_jax.model.free_legs`')."""
         if key not in self._turns:
-            self._turns[key] = free_legs.leg_table(self, np.dtype(dtype))
+            self._turns[key] = build()
         return self._turns[key]
-
-    def _free_arrays(self, dtype: np.dtype) -> dict[str, Any]:
-        """``free_legs`` and ``turns_free`` of :meth:`search_arrays` in ``dtype``."""
-        from hga_jax.model import free_legs
-
-        if ("free", dtype.name) not in self._turns:
-            table = None
-            if turn_tables.fits(self.n, free_legs.VARIANTS):
-                s64 = self.arrays(np.float64)
-                built = turn_tables.build(s64.tangents, s64.start, s64.goal, s64.centres,
-                                          s64.model_radii, s64.bounds, "full",
-                                          self.leg_table(np.float64))
-                table = np.asarray(built.entries, dtype) if built.usable else None
-            self._turns[("free", dtype.name)] = {"free_legs": self.leg_table(dtype),
-                                                 "turns_free": table}
-        return self._turns[("free", dtype.name)]
 
     def _parts(self, dtype: np.dtype) -> tuple[np.ndarray, ...]:
         """start, goal, centres, model_radii, rho, bounds as numpy arrays of ``dtype``."""
@@ -200,7 +173,7 @@ class ScenarioArrays(NamedTuple):
     None; filled by ``search_arrays(..., with_legs=True)``.
     free_legs: the :class:`~hga_jax.model.free_legs.LegTable` of free-turn chromosomes,
     turns_free: its turn table's entries (or None: decoded leg by leg); both only from
-    ``search_arrays(..., turns="free")``.
+    :func:`hga_jax.model.free_legs.search_arrays`.
     """
 
     start: Any

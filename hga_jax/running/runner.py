@@ -30,6 +30,7 @@ from hga_jax.model.fitness import fitness_of
 from hga_jax.search import ga
 from hga_jax.search.ga import Record, host_generation_keys
 from hga_jax.running.progress import bar as bar_of, count, tick
+from hga_jax.model import free_legs
 from hga_jax.model.path import decode64, evaluate_path
 from hga_jax.running.results import RunsResult
 from hga_jax.model.scenario import Scenario
@@ -222,8 +223,8 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                         f"generations of {count(runs, 'run')}" if cut.batches == 1 else
                         f"generations of {cut.batches} batches of {count(size, 'run')}")
         with jax.enable_x64(dtype == np.float64):
-            sa = scenario.search_arrays(dtype, settings.collision, settings.uses_legs,
-                                        settings.turns)
+            sa = (free_legs.search_arrays(scenario, dtype, settings.uses_legs) if settings.free
+                  else scenario.search_arrays(dtype, settings.collision, settings.uses_legs))
             t0 = time.perf_counter()
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))

@@ -7,7 +7,7 @@ families hold such scenes, for measuring a search under ``turns = "free"`` again
 the free-turn optimum. Units: metres and degrees (as in a scenario file).
 
 - ``loops``: the RoboCup robots (radius 0.09 m, rho 0.15 m) on the RoboCup field
-  (kept), obstacles uniform as in ``clutter`` (:func:`hga_jax.study.scenes._place`);
+  (kept), obstacles uniform as in ``clutter`` (:func:`hga_jax.study.scene_files.place_uniform`);
   the start anywhere at least 0.3 m inside the field, the goal in a uniform direction
   at a distance uniform in [0, 5 rho], both headings uniform.
 - ``cluster_loops``: the ``clusters`` rule (:mod:`hga_jax.study.clusters`: per-scene
@@ -16,7 +16,7 @@ the free-turn optimum. Units: metres and degrees (as in a scenario file).
 
 A scene is kept only when its tight-rope optimum is feasible, the free-turn optimum
 is shorter by at least :data:`MIN_SAVING`, and a chromosome with leg genes expresses it
-(:func:`hga_jax.model.free_legs.shortest` reaches it): the scenes a free-turn GA can
+(:func:`hga_jax.model.leg_space.shortest` reaches it): the scenes a free-turn GA can
 hit. Scene ``i`` with ``n`` obstacles of seed ``s`` depends on ``(s, n, i)`` alone.
 """
 from __future__ import annotations
@@ -26,11 +26,9 @@ import math
 import numpy as np
 
 from hga_jax.host.config import scenario_from_dict
-from hga_jax.model import free_legs
+from hga_jax.model import leg_space
 from hga_jax.model.exact import solve
 from . import clusters, scene_files
-from .scenes import FIELD_H, FIELD_W
-from .scenes import _place as uniform_place
 
 KINDS = ("loops", "cluster_loops")
 STREAM = 0x100F  # last word of the seed: streams apart from the other generators'
@@ -55,7 +53,8 @@ def draw(kind: str, rng: np.random.Generator, n: int, name: str) -> dict | None:
     """One candidate scene of ``kind`` (a scenario mapping, not yet checked or kept), or
     None when its poses or obstacles could not be placed."""
     if kind == "loops":
-        r, rho, (w, h) = scene_files.ROBOT_RADIUS, scene_files.TURN_RADIUS, (FIELD_W, FIELD_H)
+        r, rho = scene_files.ROBOT_RADIUS, scene_files.TURN_RADIUS
+        w, h = scene_files.FIELD_W, scene_files.FIELD_H
     else:
         r, rho = rng.uniform(*clusters.ROBOT_RADIUS), rng.uniform(*clusters.TURN_RADIUS)
         w, h = clusters._field(rng, n)
@@ -65,7 +64,7 @@ def draw(kind: str, rng: np.random.Generator, n: int, name: str) -> dict | None:
     start, goal = poses
     if kind == "loops":
         try:
-            centres, radii = uniform_place(rng, n, w, h, start, goal, False), None
+            centres, radii = scene_files.place_uniform(rng, n, w, h, start, goal, False), None
         except RuntimeError:
             return None
     else:
@@ -83,7 +82,7 @@ def kept(sc) -> bool:
     tight = free.tight_rope_length
     if not (free.feasible and math.isfinite(tight)) or free.length > (1 - MIN_SAVING) * tight:
         return False
-    return free_legs.shortest(sc)[0] <= free.length * (1 + 1e-9)
+    return leg_space.shortest(sc)[0] <= free.length * (1 + 1e-9)
 
 
 def generate(kind: str, n: int, seed: int, index: int, name: str,

@@ -2,8 +2,9 @@
 
 Shared by the scene generators (:mod:`hga_jax.study.scenes`, :mod:`hga_jax.study.clusters`):
 :func:`scene_dict` lays a scene out like a scenario file (metres, degrees, rounded),
-:func:`to_toml` writes it in the layout of ``configs/scenarios``, and :func:`blocked`
-is the test an obstructed scene must pass. Host code.
+:func:`to_toml` writes it in the layout of ``configs/scenarios``, :func:`blocked`
+is the test an obstructed scene must pass, and :func:`place_uniform` the RoboCup
+placement of ``clutter``, ``obstructed`` and ``loops`` obstacles. Host code.
 """
 from __future__ import annotations
 
@@ -15,6 +16,9 @@ from hga_jax.model.path import decode64
 from hga_jax.model.scenario import Scenario
 
 ROBOT_RADIUS, TURN_RADIUS = 0.09, 0.15  # the bundled RoboCup robots (m)
+MODEL_RADIUS = 0.18
+FIELD_W, FIELD_H = 2.8, 2.3
+SPACING = 0.30  # minimum distance between obstacle centres (m)
 
 
 def scene_dict(name: str, w: float, h: float, start, goal, centres, radii=None,
@@ -56,3 +60,30 @@ def blocked(sc: Scenario) -> bool:
     labels[:, 0], labels[:, -1] = ends[:, 0], ends[:, 1]
     perm = np.tile(np.arange(sc.n, dtype=np.int32), (4, 1))
     return bool(np.all(decode64(sc, perm, labels).violations > 0))
+
+
+def place_uniform(rng, n: int, w: float, h: float, start, goal, obstructed: bool) -> np.ndarray:
+    """``n`` centres at least SPACING apart, clear of the start and goal points."""
+    keep = np.array([start[:2], goal[:2]])
+    out: list[np.ndarray] = []
+    near_line = n // 2 if obstructed else 0
+    tries = 0
+    while len(out) < n:
+        tries += 1
+        if tries > 200 * n:
+            raise RuntimeError("field too crowded")
+        if len(out) < near_line:
+            t = rng.uniform(0.15, 0.85)
+            d = keep[1] - keep[0]
+            normal = np.array([-d[1], d[0]]) / np.hypot(*d)
+            c = keep[0] + t * d + rng.normal(0.0, 0.2) * normal
+        else:
+            c = np.array([rng.uniform(0.2, w - 0.2), rng.uniform(0.2, h - 0.2)])
+        if not (0.2 <= c[0] <= w - 0.2 and 0.2 <= c[1] <= h - 0.2):
+            continue
+        if np.min(np.hypot(*(keep - c).T)) < MODEL_RADIUS + 0.1:
+            continue
+        if out and np.min(np.hypot(*(np.array(out) - c).T)) < SPACING:
+            continue
+        out.append(c)
+    return np.array(out).reshape(n, 2)

@@ -34,11 +34,10 @@ from hga_jax.model.exact import solve
 from hga_jax.host.output import write_file
 from hga_jax.model.scenario import Scenario
 from .config import Family
-from .scene_files import blocked, scene_dict, to_toml
+from .scene_files import FIELD_H, FIELD_W, blocked, scene_dict, to_toml
+from .scene_files import MODEL_RADIUS, SPACING  # noqa: F401  (the families' RoboCup sizes)
+from .scene_files import place_uniform as _place
 
-MODEL_RADIUS = 0.18
-FIELD_W, FIELD_H = 2.8, 2.3
-SPACING = 0.30  # minimum distance between obstacle centres (m)
 MAX_TRIES = 5000
 
 
@@ -64,33 +63,6 @@ def _poses(rng: np.random.Generator, w: float, h: float) -> tuple[list[float], l
     start = [rng.uniform(0.25, 0.5), rng.uniform(0.35, h - 0.35), rng.uniform(-60, 60)]
     goal = [rng.uniform(w - 0.5, w - 0.25), rng.uniform(0.35, h - 0.35), rng.uniform(-60, 60)]
     return start, goal
-
-
-def _place(rng, n: int, w: float, h: float, start, goal, obstructed: bool) -> np.ndarray:
-    """``n`` centres at least SPACING apart, clear of the start and goal points."""
-    keep = np.array([start[:2], goal[:2]])
-    out: list[np.ndarray] = []
-    near_line = n // 2 if obstructed else 0
-    tries = 0
-    while len(out) < n:
-        tries += 1
-        if tries > 200 * n:
-            raise RuntimeError("field too crowded")
-        if len(out) < near_line:
-            t = rng.uniform(0.15, 0.85)
-            d = keep[1] - keep[0]
-            normal = np.array([-d[1], d[0]]) / np.hypot(*d)
-            c = keep[0] + t * d + rng.normal(0.0, 0.2) * normal
-        else:
-            c = np.array([rng.uniform(0.2, w - 0.2), rng.uniform(0.2, h - 0.2)])
-        if not (0.2 <= c[0] <= w - 0.2 and 0.2 <= c[1] <= h - 0.2):
-            continue
-        if np.min(np.hypot(*(keep - c).T)) < MODEL_RADIUS + 0.1:
-            continue
-        if out and np.min(np.hypot(*(np.array(out) - c).T)) < SPACING:
-            continue
-        out.append(c)
-    return np.array(out).reshape(n, 2)
 
 
 def generate(kind: str, n: int, seed: int, index: int, name: str,

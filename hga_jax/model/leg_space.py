@@ -1,0 +1,60 @@
+"""The best path of the leg-gene chromosome space, found exactly.
+
+A free-turn chromosome (:mod:`hga_jax.model.free_legs`) expresses the tight-rope paths
+and, leg by leg, free circles that touch both neighbouring circles. :func:`shortest`
+searches that space's tangent graph (the scenario's clear tangents plus the clear free
+legs, each obstacle touched at most once, as a chromosome does), so that the share of
+free-turn optima it reaches can be measured, and so that a scene family can keep only
+scenes a GA run can hit. Host code (numpy, float64); metres and radians.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import free_turns
+from .free_legs import table
+from .graph_search import search, walk
+from .scenario import Scenario
+
+
+def shortest(sc: Scenario):
+    """The best path a chromosome with free legs expresses: ``(length, segments, touched,
+    free_arcs)`` as :func:`hga_jax.model.free_turns.shortest` (inf and empty lists when
+    none is feasible or the label budget of the search runs out)."""
+    from .exact import _tangents
+
+    sa = sc.arrays(np.float64)
+    circ = sc.circles(np.float64)
+    S, T, t, ok, _ = _tangents(sa, True)
+    legs = table(sc)
+    rho = float(sc.min_turn_radius)
+    e = int(ok.sum())
+    pieces = (np.r_[S[ok], legs.S], np.r_[T[ok], legs.T], np.r_[t.p1x[ok], legs.p1x],
+              np.r_[t.p1y[ok], legs.p1y], np.r_[t.p2x[ok], legs.p2x], np.r_[t.p2y[ok], legs.p2y],
+              np.r_[t.length[ok], rho * legs.sweep])
+    gr = free_turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]])
+    h = np.hypot(gr.nx - float(sc.goal[0]), gr.ny - float(sc.goal[1])).tolist()
+    length, edges, _ = search(gr, h, distinct=True)
+    if not edges:
+        return math.inf, [], [], 0
+    circs, segs = walk(gr, edges)
+    lines = iter(i for i, s in enumerate(segs) if s["type"] == "line")
+    free = 0
+    for k in edges:
+        u = int(gr.src[k])
+        if gr.arc_circle[k] >= 0 or gr.w[k] <= 0.0:
+            continue
+        i = next(lines)
+        if 4 + e <= u < 4 + len(pieces[0]):  # a free leg: an arc on its free circle
+            j = u - 4 - e
+            segs[i] = {"type": "arc", "center": [float(legs.fx[j]), float(legs.fy[j])],
+                       "radius": rho, "sweep": float(-legs.sign[j] * legs.sweep[j]),
+                       "start_angle": float(math.atan2(legs.p1y[j] - legs.fy[j],
+                                                       legs.p1x[j] - legs.fx[j])),
+                       "free": True}
+            free += 1
+    own, sg = circ[4], circ[3]
+    touched = [(int(own[c]), int(sg[c])) for c in circs if c >= 4]
+    return float(length), segs, touched, free
