@@ -125,6 +125,17 @@ def test_recommended_ga_with_free_turns_hits_the_loop():
     assert res.best.length == pytest.approx(res.optimum_length, abs=1e-9)
 
 
+def test_free_turns_keep_the_hits_where_the_tight_rope_is_optimal():
+    # On the bundled RoboCup scene no free turn shortens the optimum: leg genes must
+    # not cost the recommended HGA its hits (uniform fresh genes hit 92 % here).
+    from hga_jax import load_scenario
+
+    sc = load_scenario("configs/scenarios/robocup_paper.toml")
+    res = run_many(sc, FREE_RECOMMENDED, seed=0, runs=200)
+    assert res.optimum_length == pytest.approx(res.optimum.tight_rope_length, abs=1e-12)
+    assert res.hit.mean() >= 0.98
+
+
 def test_a_run_alone_equals_the_same_run_in_a_batch_under_free_turns():
     sc = _loop_scene()
     st = dataclasses.replace(PAPER, turns="free", generations=10)

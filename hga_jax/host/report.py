@@ -113,8 +113,10 @@ def run_summary(res: RunsResult) -> str:
                      + _generations(s["median_generation_hit"], s["runs_hit"], "the hit"))
         opt = res.optimum
         if opt.turns == "free":
-            lines.append("the optimum is the free-turn one (turns in free space too), which "
-                         "the GA's tight-rope paths cannot reach where it is shorter; "
+            reach = ("which the GA's leg genes express where a free circle joins two of the "
+                     "path's circles" if st.free else
+                     "which the GA's tight-rope paths cannot reach where it is shorter")
+            lines.append(f"the optimum is the free-turn one (turns in free space too), {reach}; "
                          + _tight_rope_line(opt))
         elif not opt.expressible:
             alt = opt.best_expressible

@@ -139,8 +139,9 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
         md = summary.markdown(rows, f"Study {study.name}: {len(tab)} runs")
         if study.yardstick == "free":
             md = md.replace("\n", "\n\nGaps and hits are measured against the free-turn "
-                            "optimum (turns in free space too), not the tight-rope one the GA "
-                            "searches.\n", 1)
+                            "optimum (turns in free space too), not the tight-rope one. "
+                            "Configurations with turns = \"free\" search free-turn chromosomes "
+                            "(leg genes); the others search tight-rope paths.\n", 1)
         write_file(j("summary.md"), lambda fh: fh.write(md))
         table.write_csv(j("by_scene.csv"), pd.DataFrame(summary.by_scene(tab, labels)),
                         missing="nan")
