@@ -325,9 +325,21 @@ def test_ctrl_c_stops_a_long_run_promptly_and_writes_nothing(tmp_path):
 
     out = tmp_path / "never"
     env = {**os.environ, "JAX_PLATFORMS": "cpu", "HGA_JAX_CACHE_DIR": "off"}
-    proc = subprocess.Popen([sys.executable, "-m", "hga_jax", "run", ROBOCUP, "--preset", "paper", "--runs", "100",
-                             "--generations", "100000", "--out", str(out)],
-                            stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
+    # As from a terminal, whatever this test process inherited or another test left: a
+    # blocked or ignored SIGINT would be passed on to the child.
+    mask = signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+    handler = signal.getsignal(signal.SIGINT)
+    if handler == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        proc = subprocess.Popen([sys.executable, "-m", "hga_jax", "run", ROBOCUP, "--preset", "paper",
+                                 "--runs", "100", "--generations", "100000", "--out", str(out)],
+                                stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        if handler == signal.SIG_IGN:
+            signal.signal(signal.SIGINT, handler)
+    blocked = signal.SIGINT in mask
     import re
 
     seen = b""
@@ -337,7 +349,12 @@ def test_ctrl_c_stops_a_long_run_promptly_and_writes_nothing(tmp_path):
         seen += chunk
     t0 = time.monotonic()
     proc.send_signal(signal.SIGINT)
-    rest = proc.communicate(timeout=60)[1]
+    try:
+        rest = proc.communicate(timeout=60)[1]
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise AssertionError(f"no exit 60 s after SIGINT (SIGINT blocked in the test: {blocked}, "
+                             f"handler {signal.getsignal(signal.SIGINT)})") from None
     waited = time.monotonic() - t0
     assert proc.returncode == 130 and waited < 10
     last = rest.decode().replace("\r", "\n").strip().splitlines()[-1]
