@@ -206,3 +206,19 @@ def test_loop_families_keep_only_scenes_where_free_turns_win(kind):
     assert leg_space.shortest(sc)[0] == pytest.approx(free.length, abs=1e-9)
     start, goal = np.asarray(sc.start[:2]), np.asarray(sc.goal[:2])
     assert np.hypot(*(goal - start)) <= loops.REACH * sc.min_turn_radius + 1e-3
+
+
+def test_loop_families_take_no_density_and_the_study_file_loads(tmp_path):
+    from hga_jax.study import load_study
+
+    text = ('name = "s"\nruns = 5\nyardstick = "free"\n[[families]]\nname = "f"\n'
+            'kind = "cluster_loops"\nobstacles = [5]\ndensity = 1.0\n[[configs]]\n'
+            'label = "free"\nturns = "free"\n')
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=r"s.toml: families\[0\].density: not used by kind "
+                                          r"cluster_loops"):
+        load_study(str(path))
+    study = load_study("configs/studies/free_turns.toml")
+    assert study.yardstick == "free" and [f.kind for f in study.families] == list(loops.KINDS)
+    assert [c.settings.turns for c in study.configs] == ["free", "free", "tight-rope"]
