@@ -90,15 +90,13 @@ def run_range(seed: Any, runs: Any, first_run: Any, chunk: Any, source: str,
 
 
 def turns(value: Any, collision: str, source: str, key: str = "turns") -> str:
-    """The model of turns (``"tight-rope"`` or ``"free"``; free turns only under the full
-    collision test, whose arcs are judged against the obstacles)."""
-    from hga_jax.model.exact import TURNS
+    """``value`` if :func:`hga_jax.model.exact.turns_problem` finds nothing, else a
+    ConfigError."""
+    from hga_jax.model.exact import turns_problem
 
-    if value not in TURNS:
-        raise error(source, key, f"must be one of {', '.join(TURNS)}, got {value!r}")
-    if value == "free" and collision != "full":
-        raise error(source, key, "free turns need the full collision test (the paper's "
-                    f"judges no arc against an obstacle), got collision {collision!r}")
+    problem = turns_problem(value, collision)
+    if problem:
+        raise error(source, key, problem)
     return value
 
 

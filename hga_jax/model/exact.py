@@ -219,17 +219,27 @@ def _check_agreement(scenario: Scenario, path: Path | None, walk_length: float) 
 TURNS = ("tight-rope", "free")
 
 
+def turns_problem(turns: Any, collision: str) -> str | None:
+    """What is wrong with the model of ``turns`` under ``collision`` (None: nothing): one
+    of :data:`TURNS`, and free turns only under the full collision test, whose arcs are
+    judged against the obstacles. The one rule for the solver, settings, runs and studies."""
+    if turns not in TURNS:
+        return f"must be one of {', '.join(TURNS)}, got {turns!r}"
+    if turns == "free" and collision != "full":
+        return ("free turns need the full collision test (the paper's judges no arc against "
+                f"an obstacle), got collision {collision!r}")
+    return None
+
+
 def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope") -> ExactResult:
     """The exact optimum of ``scenario`` under ``collision`` ("full" or "paper") and the
     model of ``turns`` ("tight-rope", the paper's; "free": :func:`solve_free`)."""
     if collision not in ("full", "paper"):
         raise ValueError(f"collision: must be 'full' or 'paper', got {collision!r}")
-    if turns not in TURNS:
-        raise ValueError(f"turns: must be one of {', '.join(TURNS)}, got {turns!r}")
+    problem = turns_problem(turns, collision)
+    if problem:
+        raise ValueError(f"turns: {problem}")
     if turns == "free":
-        if collision != "full":
-            raise ValueError("turns: free turns are judged by the full collision test "
-                             "(the paper's criterion tests no arc against an obstacle)")
         return solve_free(scenario)
     t0 = time.perf_counter()
     gr = _build(scenario, collision)

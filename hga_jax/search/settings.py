@@ -174,7 +174,7 @@ class GASettings:
         if isinstance(w, bool) or not isinstance(w, (int, float)) or not (
                 math.isfinite(w) and w > 0):
             raise bad("penalty_weight", f"must be a finite number > 0, got {w!r}")
-        from hga_jax.model.exact import TURNS
+        from hga_jax.model.exact import turns_problem
         from hga_jax.search import registry
 
         choices = [(kind, registry.names(kind)) for kind in registry.KINDS]
@@ -182,15 +182,14 @@ class GASettings:
             ("label_binding", LABEL_BINDINGS),
             ("collision", COLLISIONS),
             ("precision", PRECISIONS),
-            ("turns", TURNS),
         ]:
             v = getattr(self, key)
             if v not in allowed:
                 raise bad(key, f"must be one of {', '.join(allowed)}, got {v!r}")
-        if self.free and self.collision != "full":
-            raise bad("turns", "free turns need the full collision test (the paper's judges "
-                      f"no arc against an obstacle), got collision {self.collision!r} (from "
-                      f"{origins.get('collision', 'the default')})")
+        problem = turns_problem(self.turns, self.collision)
+        if problem:
+            raise bad("turns", problem + ("" if self.turns != "free" else
+                                          f" (from {origins.get('collision', 'the default')})"))
 
     @classmethod
     def from_mapping(
