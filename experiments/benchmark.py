@@ -14,7 +14,7 @@ What it measures (the paper's GA settings: population 50, 50 generations):
 - memory: peak RSS (the process's high-water mark) of one ``run_many`` call of
   10,000 and of 100,000 runs, each in a fresh process;
   ``--million`` adds 1,000,000 runs done in chunks of 100,000 (progress on stderr);
-- DEAP: the same GA written with DEAP (``experiments/baselines/deap_hga.py``, its
+- DEAP: the same GA written with DEAP (:mod:`hga_jax.peers.deap_ga`, its
   fitness from a pure-Python decoder) on ``robocup_paper``, median wall time per
   run, and the ratio to hga-jax's search time per run at R = 10,000 (float32).
 
@@ -192,12 +192,13 @@ def deap_case(runs: int, seed: int = 0) -> dict[str, Any] | None:
     """Median wall time per run of the DEAP version (None without deap)."""
     if importlib.util.find_spec("deap") is None:
         return None
-    spec = importlib.util.spec_from_file_location(
-        "deap_hga", os.path.join(HERE, "baselines", "deap_hga.py"))
-    deap_hga = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(deap_hga)
+    from hga_jax.peers.deap_ga import run
+    from hga_jax.peers.python_decoder import PythonDecoder
+
     cal = calibration()
-    times = deap_hga.time_runs(paper_scene(), GASettings(), seed, runs)
+    sc, settings = paper_scene(), GASettings()
+    decoder = PythonDecoder.from_scenario(sc, settings.collision)
+    times = [run(sc, settings, seed, k, decoder)["seconds"] for k in range(runs)]
     return {"scenario": "robocup_paper", "runs": runs, "per_run_s": times,
             "median_per_run_s": statistics.median(times), "calibration_s": cal}
 

@@ -107,8 +107,9 @@ FIGURES = """
 def test_figures_save_pngs_with_no_display(tmp_path):
     code = FIGURES.replace("sys.argv[1]", repr(str(tmp_path))).replace("sys.argv[2]", repr(ROBOCUP))
     out = _python(code)
-    assert sorted(out["images"]) == ["convergence.png", "convergence_host.png", "evaluations_ecdf.png",
-                                     "gap_ecdf.png", "hit_rate.png", "path.png", "time_ecdf.png"]
+    assert sorted(out["images"]) == ["anytime.png", "convergence.png", "convergence_host.png",
+                                     "evaluations_ecdf.png", "gap_ecdf.png", "hit_rate.png",
+                                     "path.png", "time_ecdf.png"]
     for name, im in out["images"].items():
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         h, w, channels = im["shape"]

@@ -14,6 +14,7 @@ from _families import FAMILIES, chromosomes, scenes
 from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.model.exact import solve
 from hga_jax.model.path import decode64, from_chromosome
+from hga_jax.peers.python_decoder import PythonDecoder
 from hga_jax.study.scenes import generate
 
 
@@ -30,10 +31,9 @@ def _agreement(sc, rng, count):
     (plus the exact optimum's, when expressible) with both decoders: returns the number
     decoded, the largest length difference (m), the mismatches, feasible and infeasible
     counts."""
-    python_decoder = _load("python_decoder")
     checked, worst, wrong, feasible = 0, 0.0, [], 0
     for collision in ("full", "paper"):
-        py = python_decoder.PythonDecoder.from_scenario(sc, collision)
+        py = PythonDecoder.from_scenario(sc, collision)
         batches = [chromosomes(rng, sc.n, count, p_zero) for p_zero in (0.2, 0.5, 0.8)]
         opt = solve(sc, collision)
         if opt.feasible and opt.expressible:
@@ -76,9 +76,8 @@ def test_python_decoder_gives_hga_jax_lengths_and_violations(group):
 
 
 def test_python_decoder_fitness_is_the_papers():
-    python_decoder = _load("python_decoder")
     sc = load_scenario("configs/scenarios/robocup_paper.toml")
-    py = python_decoder.PythonDecoder.from_scenario(sc)
+    py = PythonDecoder.from_scenario(sc)
     assert py.delta == pytest.approx(sc.delta, rel=1e-15)
     opt = solve(sc)
     perm, labels = from_chromosome(opt.upper, opt.lower, sc.n)
@@ -91,7 +90,7 @@ def test_python_decoder_fitness_is_the_papers():
     assert violations > 0
     assert fit == pytest.approx(10000 / (length + violations * 2 * np.pi * 0.18 + 1), rel=1e-12)
     with pytest.raises(ValueError):
-        python_decoder.PythonDecoder.from_scenario(sc, "nearly")
+        PythonDecoder.from_scenario(sc, "nearly")
 
 
 @pytest.fixture(scope="module")
@@ -100,21 +99,29 @@ def deap_hga():
     return _load("deap_hga")
 
 
-def test_cycle_crossover_by_hand(deap_hga):
+@pytest.fixture(scope="module")
+def deap_ga():
+    pytest.importorskip("deap")
+    from hga_jax.peers import deap_ga
+
+    return deap_ga
+
+
+def test_cycle_crossover_by_hand(deap_ga):
     a, b = [0, 1, 2, 3, 4, 5], [1, 2, 0, 4, 5, 3]
     # positions 0, 1, 2 form one cycle (a[0]=0 sits at b's position 2, ...), 3, 4, 5 another
     rng = random.Random(0)
     for _ in range(20):
-        c1, c2 = deap_hga.cycle_crossover(a, b, rng)
+        c1, c2 = deap_ga.cycle_crossover(a, b, rng)
         assert sorted(c1) == sorted(c2) == a
         assert (c1, c2) in (([0, 1, 2, 4, 5, 3], [1, 2, 0, 3, 4, 5]),
                             ([1, 2, 0, 3, 4, 5], [0, 1, 2, 4, 5, 3]))
     p = list(range(7))
     for seed in range(10):
-        q = deap_hga.inversion(p, random.Random(seed))
+        q = deap_ga.inversion(p, random.Random(seed))
         assert any(q == p[:lo] + p[lo:hi][::-1] + p[hi:]
                    for lo in range(8) for hi in range(lo + 1, 8))
-    labels = deap_hga.redraw([1, 0, -1, 1, -1], 1.0, random.Random(2))
+    labels = deap_ga.redraw([1, 0, -1, 1, -1], 1.0, random.Random(2))
     assert labels[0] == -1 and labels[-1] == 1  # ends flip
     assert all(new != old for new, old in zip(labels, [1, 0, -1, 1, -1]))
 
@@ -136,20 +143,3 @@ def test_deap_runs_are_seeded_and_measured_against_the_optimum(deap_hga, tmp_pat
     again = tmp_path / "again.csv"
     assert deap_hga.main(args[:-1] + [str(again)]) == 0
     assert [r["length"] for r in csv.DictReader(again.open())] == [r["length"] for r in rows]
-
-
-def test_ompl_paths_are_checked_with_the_models_clearance():
-    pytest.importorskip("ompl")
-    import numpy as np
-
-    om = _load("ompl_dubins")
-    sc = load_scenario("configs/scenarios/robocup_paper.toml")
-    c, big = sc.centres[1], sc.model_radii[1]
-    inside = np.array([[c[0] + 0.5 * big, c[1]], [0.3, 0.6]])
-    assert om.dense_violations(sc, inside) == 1
-    assert om.dense_violations(sc, np.array([[c[0] + big + 1e-6, c[1]]])) == 0
-    assert om.dense_violations(sc, np.array([[0.05, 1.0]])) == 1  # off the kept field
-    r = om.plan(sc, "BITstar", 0.3, 0)
-    a, b = np.array(sc.start[:2]), np.array(sc.goal[:2])
-    assert r["solved"] and r["length"] > np.hypot(*(b - a))
-    assert r["seconds"] == pytest.approx(0.3, abs=0.5)

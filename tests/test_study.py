@@ -180,19 +180,19 @@ def test_run_table_files_keep_values_and_missing_ones(tmp_path):
     from hga_jax.study import table
 
     tab = table.build("t", [_cell("a", [0.0, 0.1, None]), _cell("b", [0.25, 0.0, 0.0])])
-    assert list(tab.columns) == ["study", "config", "family", "scenario", "obstacles", "seed",
-                                 "run", "population", "perm_crossover", "length", "feasible",
-                                 "gap", "hit", "evaluations_hit", "optimum", "evaluations",
-                                 "time_s"]
+    assert list(tab.columns) == ["study", "config", "solver", "family", "group", "scenario",
+                                 "obstacles", "seed", "run", "population", "perm_crossover", "length",
+                                 "feasible", "gap", "hit", "evaluations_hit", "optimum",
+                                 "evaluations", "time_s", "compile_s"]
     assert len(tab) == 6
     assert table.numeric(tab, "gap").tolist() == [0.0, 0.1, math.inf, 0.25, 0.0, 0.0]
     assert table.numeric(tab, "evaluations_hit").tolist() == [30, math.inf, math.inf, math.inf,
                                                               30, 30]
     table.write_csv(str(tmp_path / "runs.csv"), tab)
     lines = (tmp_path / "runs.csv").read_text().splitlines()
-    assert lines[1] == "t,a,f,s0,3,7,0,10,cx,2.5,True,0.0,True,30,2.5,60,0.5"
-    assert lines[3] == "t,a,f,s0,3,7,2,10,cx,3.75,False,,False,,2.5,60,0.5"  # missing: empty
-    assert lines[2].split(",")[9] == repr(2.5 * 1.1)  # floats round-trip
+    assert lines[1] == "t,a,hga,f,f,s0,3,7,0,10,cx,2.5,True,0.0,True,30,2.5,60,0.5,0.0"
+    assert lines[3] == "t,a,hga,f,f,s0,3,7,2,10,cx,3.75,False,,False,,2.5,60,0.5,0.0"  # missing
+    assert lines[2].split(",")[11] == repr(2.5 * 1.1)  # floats round-trip
     table.write_parquet(str(tmp_path / "runs.parquet"), tab)
     back = pd.read_parquet(tmp_path / "runs.parquet")
     assert list(back.columns) == list(tab.columns)

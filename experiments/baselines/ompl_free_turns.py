@@ -13,7 +13,7 @@ heading east, goal at a random distance (up to 8 turning radii), bearing and
 heading; the model's exact optimum (hga-jax) against OMPL's exact Dubins distance
 (``DubinsStateSpace.distance``, no planner involved). It then plans with BIT* on a
 scene where it happens, with the bundled scene's obstacles around, and checks the
-path densely with the model's clearance.
+path with the model's own collision rules (:mod:`hga_jax.peers.judge`).
 
 Usage: ``python3 experiments/baselines/ompl_free_turns.py [--pairs 2000]
 [--out results/baselines]`` (needs the ``compare`` extra for OMPL).
@@ -100,14 +100,20 @@ def main(argv=None) -> int:
     d["start"] = {"x": ox, "y": oy, "heading_deg": 0.0}
     sc = scenario_from_dict(d)
     opt = solve(sc)
-    from ompl_dubins import plan  # the same planner setup and dense check as the study
+    from hga_jax.peers.judge import judge_poses
+    from hga_jax.peers.ompl_planner import plan  # the study's planner set-up
 
     print(f"on the bundled field at ({ox}, {oy}): tight-rope optimum {opt.length:.4f} m, "
           f"Dubins distance {dubins_distance(sc.start, sc.goal):.4f} m")
-    for seed in range(3):
-        r = plan(sc, "BITstar", 1.0, seed)
-        print(f"  BIT* 1 s, seed {seed}: length {r['length']:.4f} m, "
-              f"samples closer than a model radius: {r['invalid_samples']}")
+    for run in range(3):
+        r = plan(sc, "BITstar", 1.0)
+        poses = r["checkpoints"][-1][1]
+        if poses is None:
+            print(f"  BIT* 1 s, run {run}: no path")
+            continue
+        j = judge_poses(sc, poses)
+        print(f"  BIT* 1 s, run {run}: length {j.length:.4f} m (the model's), "
+              f"violations under the model's full rule: {j.violations}")
     return 0
 
 

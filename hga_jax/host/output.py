@@ -2,7 +2,9 @@
 
 A result folder holds the files of one result only: ``result.json`` and, from
 ``run``, ``history.csv``; the plots ``path.png`` and ``convergence.png``; and the
-redrawn paths ``path_run<K>.png`` of ``hga-jax plot``. Writing a result into a
+redrawn paths ``path_run<K>.png`` of ``hga-jax plot`` and the poses
+``poses.csv``, ``poses.json`` (``poses_run<K>.*``) of ``hga-jax export``, which
+belong to the result beside them. Writing a result into a
 folder that holds any of these needs ``force``; the files of the new result
 replace them and the ones it does not write are removed, so a folder never
 mixes two results. Other files in the folder are left alone.
@@ -23,7 +25,7 @@ from typing import Any, Callable, Mapping
 from hga_jax.errors import ConfigError
 
 RESULT_FILES = ("result.json", "history.csv", "path.png", "convergence.png")
-_REDRAWN = re.compile(r"path_run\d+\.png")
+_REDRAWN = re.compile(r"path_run\d+\.png|poses(_run\d+)?\.(csv|json)")  # plot's, export's
 
 
 def is_result_file(name: str) -> bool:
@@ -140,7 +142,7 @@ def csv_writer(rows: list[dict[str, Any]]) -> Writer:
     return write
 
 
-def figure_writer(fig: Any, dpi: int = 140) -> Writer:
-    """A writer of a matplotlib figure as PNG."""
-    return lambda fh: fig.savefig(fh, dpi=dpi, format="png", bbox_inches="tight",
+def figure_writer(fig: Any, dpi: int = 140, format: str = "png") -> Writer:
+    """A writer of a matplotlib figure as PNG (or ``format``: ``"pdf"``, ``"svg"``)."""
+    return lambda fh: fig.savefig(fh, dpi=dpi, format=format, bbox_inches="tight",
                                   pad_inches=0.05)

@@ -271,11 +271,14 @@ def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
     return fig
 
 
-def save_figure(fig: Figure, path: str | Path, dpi: int = 140) -> Path:
-    """Write ``fig`` as PNG to ``path`` atomically (parents created); return the path."""
+def save_figure(fig: Figure, path: str | Path, dpi: int = 140, vector: bool = False) -> Path:
+    """Write ``fig`` as PNG to ``path`` atomically (parents created); return the path.
+    ``vector``: also a PDF beside it (same name, ``.pdf``), for a paper's figures."""
     from .output import atomic_write, figure_writer
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(str(path), figure_writer(fig, dpi), binary=True)
+    if vector:
+        atomic_write(str(path.with_suffix(".pdf")), figure_writer(fig, dpi, "pdf"), binary=True)
     return path

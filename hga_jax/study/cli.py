@@ -9,15 +9,27 @@ import argparse
 from hga_jax.running import devices
 
 
-def add_parser(sub) -> None:
-    p = sub.add_parser("study", help="run or resume a study (grid of settings over scenes)")
+def add_parser(sub, formatter=argparse.HelpFormatter) -> None:
+    p = sub.add_parser(
+        "study", help="run or resume a study (grid of settings over scenes)",
+        formatter_class=formatter, description=(
+            "Run or resume a study: a grid of configurations (GA settings, or peers such as "
+            "OMPL's planners, DEAP, random search and the exact solver) over scene files "
+            "and generated scene families, many seeded runs per cell. Finished cells are "
+            "kept in the output folder and never run again; writes runs and summary tables "
+            "(CSV, Parquet, Markdown with intervals and tests) and figures. The study file "
+            "format: docs/studies.md."))
     p.add_argument("config", help="study TOML file (e.g. configs/studies/reproduce_paper.toml)")
     _options(p)
 
 
 def _options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true", help="the study's small [quick] version")
-    p.add_argument("--out", help="output folder (default results/<study name>)")
+    p.add_argument("--out", metavar="DIR", help="output folder (default: results/<study name>, "
+                   "results/<study name>_quick with --quick); a folder of the same study is "
+                   "resumed")
+    p.add_argument("--force", action="store_true", help="replace another study's outputs in "
+                   "the output folder (its cells too)")
     p.add_argument("--scenes", type=int, help="only the first N scenes of each family "
                    "(a part of the study; the full study reuses its cells)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -39,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
 
         validation.at_least(args.scenes, "command line", "--scenes", 1)
     outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,
-                        progress=False if args.quiet else None)
+                        progress=not args.quiet, force=args.force)
     print(f"study {outcome.study.name}: {len(outcome.docs)} cells "
           f"({outcome.cells_run} run now, {outcome.cells_reused} already done), "
           f"{len(outcome.table)} runs; results in {outcome.folder}")

@@ -12,9 +12,28 @@ A study file holds (paths are relative to the file)::
     [ga]                          # settings shared by every configuration
     [[families]]                  # optional generated scenes (see scenes.py)
     name = "clutter"; kind = "clutter"; obstacles = [5, 9, 15]; scenes = 10; seed = 1
+    cpu_devices = 1               # optional: JAX CPU devices (1: every solver on one core)
     [[configs]]                   # each table is a grid: the product of its lists
     perm_crossover = ["cx", "pmx", "ox1"]
+    [[configs]]                   # a peer (see below)
+    solver = "ompl"; planner = "BITstar"; time_limit = 1.0; runs = 20
     [quick]                       # --quick: runs, scenes, obstacles, ga, configs, scenarios
+
+A configuration's ``solver`` (default ``"hga"``) names what searches (:data:`SOLVERS`):
+
+- ``"hga"``: hga-jax's GA with the table's settings over ``preset`` (``"paper"``, the
+  default, or ``"recommended"``); ``batch = false`` runs each run alone (one compiled
+  run at a time, as a user asking for one path would), instead of all runs at once;
+- ``"random"``: random search, ``evaluations`` random chromosomes per run, the best
+  kept (the GA with that population and 0 generations);
+- ``"exact"``: the exact solver (one run per scene: it is deterministic);
+- ``"deap"``: the paper's GA written with DEAP (:mod:`hga_jax.peers.deap_ga`); of the
+  GA settings it takes population, generations, the four rates and collision;
+- ``"ompl"``: one of OMPL's planners (``planner``, :data:`~hga_jax.peers.ompl_planner.PLANNERS`)
+  for ``time_limit`` seconds per run (:mod:`hga_jax.peers.ompl_planner`).
+
+``runs`` (any solver) sets the runs per scene of that configuration (default: the
+study's). A peer whose package is missing is skipped with one line, not an error.
 
 Configurations are labelled by the keys their table varies (``perm_crossover=pmx``)
 or by the table's ``label`` when it names one point; the first is the reference
@@ -31,10 +50,11 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from hga_jax import validation
-from hga_jax.search.settings import GASettings
+from hga_jax.peers.ompl_planner import PLANNERS
+from hga_jax.search.settings import PAPER, PRESETS, GASettings
 
 TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses", "ga",
-       "families", "configs", "quick", "yardstick"}
+       "families", "configs", "quick", "yardstick", "cpu_devices"}
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
 KINDS = ("clutter", "obstructed", "clusters", "loops", "cluster_loops")
@@ -55,10 +75,37 @@ class Family:
     density: float | None = None  # obstacles per m^2 (field grows with n); None: RoboCup field
 
 
+SOLVERS = ("hga", "random", "exact", "deap", "ompl")
+"""What a configuration's ``solver`` may name (see the module doc)."""
+PEER_KEYS = {"solver", "preset", "planner", "time_limit", "runs", "batch", "evaluations"}
+"""Configuration keys beside the GA settings and ``label``."""
+_NEEDS = {"planner": ("ompl",), "time_limit": ("ompl",), "batch": ("hga",),
+          "evaluations": ("random",), "preset": ("hga",)}
+DEAP_SETTINGS = ("population", "generations", "pc_upper", "pc_lower", "pm_upper",
+                 "pm_lower", "collision")
+"""The GA settings the DEAP peer implements (the others must be the paper's)."""
+
+
 @dataclass(frozen=True)
 class Config:
+    """One configuration of the grid: what searches and with which settings.
+
+    settings: the GA settings (for ``hga``, ``random`` and ``deap``; the paper's
+    otherwise). runs: runs per scene (None: the study's). planner, time_limit: an
+    OMPL configuration's planner and seconds per run. batch: ``hga`` runs searched
+    all at once (True) or one at a time (False)."""
+
     label: str
     settings: GASettings
+    solver: str = "hga"
+    planner: str | None = None
+    time_limit: float | None = None
+    runs: int | None = None
+    batch: bool = True
+
+    def identity(self) -> tuple:
+        return (self.settings, self.solver, self.planner, self.time_limit, self.runs,
+                self.batch)
 
 
 @dataclass
@@ -75,6 +122,13 @@ class Study:
     description: str = ""
     quick: bool = False
     yardstick: str = "tight-rope"
+    cpu_devices: int | None = None
+
+    def runs_of(self, config: Config) -> int:
+        """Runs per scene of ``config``: its own ``runs``, else the study's (1: exact)."""
+        if config.solver == "exact":
+            return 1
+        return config.runs if config.runs is not None else self.runs
 
 
 _err = validation.error
@@ -130,10 +184,12 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
                   None if density is None else float(density))
 
 
-def _grid(t: Any, i: int, source: str, base: GASettings, key: str) -> list[Config]:
+def _grid(t: Any, i: int, source: str, base, key: str) -> list[Config]:
+    """The configurations of one ``[[configs]]`` table; ``base(preset)`` gives the
+    settings its points are layered on."""
     where = f"{key}[{i}]"
-    t = dict(_keys(t, {f.name for f in dataclasses.fields(GASettings)} | {"label"},
-                   source, where))
+    ga_keys = {f.name for f in dataclasses.fields(GASettings)}
+    t = dict(_keys(t, ga_keys | PEER_KEYS | {"label"}, source, where))
     label = t.pop("label", None)
     if label is not None and not (isinstance(label, str) and label.strip()):
         raise _err(source, f"{where}.label", f"must be a non-empty string, got {label!r}")
@@ -148,12 +204,68 @@ def _grid(t: Any, i: int, source: str, base: GASettings, key: str) -> list[Confi
                    f"{len(points)}")
     out = []
     for point in points:
-        s = validation.settings([validation.file_layer(dict(zip(names, point)), source, where)],
-                               base)
+        config = _point(dict(zip(names, point)), source, where, base)
         varied = [f"{k}={v}" for k, v, vs in zip(names, point, values)
                   if len(vs) > 1 or len(points) == 1]
-        out.append(Config(label or ", ".join(varied) or "base", s))
+        out.append(dataclasses.replace(config, label=label or ", ".join(varied) or "base"))
     return out
+
+
+def _point(values: dict[str, Any], source: str, where: str, base) -> Config:
+    """One point of a grid: its solver's keys checked, its settings built."""
+    peer = {k: values.pop(k) for k in list(values) if k in PEER_KEYS}
+    solver = peer.get("solver", "hga")
+    if solver not in SOLVERS:
+        raise _err(source, f"{where}.solver", f"must be one of {', '.join(SOLVERS)}, "
+                   f"got {solver!r}")
+    for k in peer:
+        if k in _NEEDS and solver not in _NEEDS[k]:
+            raise _err(source, f"{where}.{k}", f"only for solver {' or '.join(_NEEDS[k])} "
+                       f"(this configuration's is {solver!r})")
+    if solver in ("exact", "ompl") and values:
+        raise _err(source, f"{where}.{next(iter(values))}", f"solver {solver!r} takes no GA "
+                   "settings")
+    if solver == "random":
+        for k in ("population", "generations"):
+            if k in values:
+                raise _err(source, f"{where}.{k}", "solver 'random' takes evaluations instead")
+        if "evaluations" not in peer:
+            raise _err(source, f"{where}.evaluations", "missing key (random chromosomes per run)")
+        values.update(population=_int(peer["evaluations"], source, f"{where}.evaluations", 1,
+                                      10**7), generations=0)
+    preset = peer.get("preset", "paper")
+    if preset not in PRESETS:
+        raise _err(source, f"{where}.preset", f"must be one of {', '.join(PRESETS)}, "
+                   f"got {preset!r}")
+    settings = validation.settings([validation.file_layer(values, source, where)], base(preset))
+    if solver == "deap":
+        for f in dataclasses.fields(GASettings):
+            if f.name not in DEAP_SETTINGS and getattr(settings, f.name) != getattr(PAPER, f.name):
+                raise _err(source, f"{where}.{f.name}", "solver 'deap' writes the paper's "
+                           f"operators only: {f.name} must be {getattr(PAPER, f.name)!r}, got "
+                           f"{getattr(settings, f.name)!r}")
+    planner = time_limit = None
+    if solver == "ompl":
+        for k in ("planner", "time_limit"):
+            if k not in peer:
+                raise _err(source, f"{where}.{k}", "missing key")
+        planner = peer["planner"]
+        if planner not in PLANNERS:
+            raise _err(source, f"{where}.planner", f"must be one of {', '.join(PLANNERS)}, "
+                       f"got {planner!r}")
+        time_limit = peer["time_limit"]
+        if isinstance(time_limit, bool) or not isinstance(time_limit, (int, float)) or not (
+                0 < time_limit <= 3600):
+            raise _err(source, f"{where}.time_limit", f"must be seconds in (0, 3600], got "
+                       f"{time_limit!r}")
+        time_limit = float(time_limit)
+    batch = peer.get("batch", True)
+    if not isinstance(batch, bool):
+        raise _err(source, f"{where}.batch", f"must be true or false, got {batch!r}")
+    runs = peer.get("runs")
+    if runs is not None:
+        runs = _int(runs, source, f"{where}.runs", 1, 1_000_001)
+    return Config("", settings, solver, planner, time_limit, runs, batch)
 
 
 def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Study:
@@ -168,7 +280,12 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
         raise _err(source, "file", f"cannot read: {e.strerror or e}") from None
     except tomllib.TOMLDecodeError as e:
         raise _err(source, "toml", f"syntax error: {e}") from None
+    if not data:
+        raise _err(source, "file", "is empty (a study needs name, runs, and scenarios or "
+                   "families)")
     data = _keys(data, TOP, source, "")
+    if quick:  # the whole study is checked first: a typo only the full grid uses stops here
+        load_study(path, False, scenes)
     for k in ("name", "runs"):
         if k not in data:
             raise _err(source, k, "missing key")
@@ -201,11 +318,16 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
         raise _err(source, "scenarios", "a study needs scenarios or families")
     validation.load_plugins(plugins, source, lambda i: f"plugins[{i}]")
     ga = _keys(data.get("ga", {}), {f.name for f in dataclasses.fields(GASettings)}, source, "ga")
-    base = validation.settings([validation.file_layer(ga, source, "ga")])
+    layers = [validation.file_layer(ga, source, "ga")]
     if "ga" in q:
         quick_ga = _keys(q["ga"], set(ga) | {f.name for f in dataclasses.fields(GASettings)},
                          source, "quick.ga")
-        base = validation.settings([validation.file_layer(quick_ga, source, "quick.ga")], base)
+        layers.append(validation.file_layer(quick_ga, source, "quick.ga"))
+
+    def base(name: str) -> GASettings:  # the shared [ga] (and quick.ga) over a preset
+        return validation.settings(layers, PRESETS[name])
+
+    base("paper")
     key = "quick.configs" if "configs" in q else "configs"
     tables = q.get("configs", data.get("configs", [{}]))
     if not isinstance(tables, list) or not tables:
@@ -213,12 +335,14 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
     configs: list[Config] = []
     for i, t in enumerate(tables):
         for c in _grid(t, i, source, base, key):
-            if all(c.settings != o.settings for o in configs):
+            if all(c.identity() != o.identity() for o in configs):
                 if any(c.label == o.label for o in configs):
                     raise _err(source, f"{key}[{i}]", f"two configurations named {c.label!r}")
                 configs.append(c)
     yardstick = data.get("yardstick", "tight-rope")
     for c in configs:  # free turns need the full collision test in every configuration
         validation.turns(yardstick, c.settings.collision, source, "yardstick")
+    cpu = data.get("cpu_devices")
+    cpu = None if cpu is None else _int(cpu, source, "cpu_devices", 1, 4097)
     return Study(name, source, seed, runs, scen, families, configs, plugins, analyses,
-                 str(data.get("description", "")), quick, yardstick)
+                 str(data.get("description", "")), quick, yardstick, cpu)

@@ -1,5 +1,5 @@
-"""PNG figures of a study: hit rates with intervals, ECDFs of gaps and of evaluations
-(and seconds) to target, and convergence curves.
+"""PNG figures of a study: hit rates with intervals, ECDFs of gaps, of evaluations and
+of seconds to target, anytime curves (gap against seconds) and convergence curves.
 
 Figures are ``matplotlib.figure.Figure`` objects (no pyplot), so drawing and
 saving them needs no display and leaves matplotlib's backend as the caller chose
@@ -17,9 +17,10 @@ from matplotlib.figure import Figure
 
 from hga_jax.host.plots import save_figure
 from . import stats
+from .anytime import GRID
 from .store import TARGETS
 from .summary import target_column
-from .table import numeric
+from .table import doc_groups, numeric
 
 GAP_FLOOR = 1e-6  # gaps are drawn on a log axis; a hit sits at this floor
 
@@ -33,14 +34,33 @@ def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | N
 
 
 def save(fig: Figure, path: str) -> str:
-    """Write a PNG atomically (:func:`~hga_jax.host.plots.save_figure`); return ``path``."""
-    save_figure(fig, path)
+    """Write a PNG and a PDF beside it atomically (:func:`~hga_jax.host.plots.save_figure`);
+    return ``path`` (the PNG's)."""
+    save_figure(fig, path, vector=True)
     return path
 
 
 def _colours(n: int):
-    cmap = matplotlib.colormaps["tab10" if n <= 10 else "tab20"]
-    return [cmap(i % cmap.N) for i in range(n)]
+    """``n`` distinct colours: tab10's, then (beyond 10) tab20's light shades."""
+    if n <= 10:
+        cmap = matplotlib.colormaps["tab10"]
+        return [cmap(i) for i in range(n)]
+    cmap = matplotlib.colormaps["tab20"]
+    order = list(range(0, 20, 2)) + list(range(1, 20, 2))
+    return [cmap(order[i % 20]) for i in range(n)]
+
+
+def panels(count: int, height: float = 2.4):
+    """A figure a journal page wide (7.2 in) with ``count`` panels, at most three a row,
+    sharing both axes; returns ``(figure, axes)`` with the unused axes hidden."""
+    cols = min(3, max(count, 1))
+    rows = -(-max(count, 1) // cols)
+    fig, axes = subplots(rows, cols, figsize=(7.2, 1.3 + height * rows), sharex=True,
+                         sharey=True, squeeze=False, layout="constrained")
+    flat = list(axes.flat)
+    for ax in flat[count:]:
+        ax.set_visible(False)
+    return fig, flat[:count]
 
 
 def hit_rates(rows: list[dict[str, Any]], path: str) -> str:
@@ -65,7 +85,7 @@ def hit_rates(rows: list[dict[str, Any]], path: str) -> str:
 
 
 def gap_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
-    family, config = table["family"].to_numpy(), table["config"].to_numpy()
+    family, config = table["group"].to_numpy(), table["config"].to_numpy()
     groups = list(dict.fromkeys(family.tolist()))
     fig, axes = subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
     gap = np.maximum(numeric(table, "gap"), GAP_FLOOR)
@@ -93,35 +113,45 @@ def _label(ax, xlabel: str, ylabel: str, title: str, xlog=False, ylog=False) -> 
     ax.grid(alpha=0.3)
 
 
-def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str,
-                     seconds: bool = False) -> str:
-    """ECDF of evaluations (or, with ``seconds``, of search time: evaluations times the
-    configuration's mean seconds per evaluation) to each target gap."""
-    fig, axes = subplots(1, len(TARGETS), figsize=(4.5 * len(TARGETS), 4), sharey=True)
-    evals, secs = numeric(table, "evaluations"), numeric(table, "time_s")
-    config = table["config"].to_numpy()
-    scale = {c: float(secs[m].sum() / evals[m].sum()) if seconds else 1.0
-             for c in configs if (m := config == c).any()}
-    top = max(float(evals[config == c].max()) * k for c, k in scale.items())
+def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
+    """ECDF of the evaluations a run needs to reach each target gap (the COCO view:
+    configurations at equal evaluations); one row of panels per group, shared axes.
+    Solvers that count no evaluations (OMPL, the exact solver) are left out."""
+    evals = numeric(table, "evaluations")
+    group, config = table["group"].to_numpy(), table["config"].to_numpy()
+    configs = [c for c in configs if np.all(np.isfinite(evals[config == c]))]  # counted
+    groups = list(dict.fromkeys(group.tolist()))
+    fig, axes = subplots(len(groups), len(TARGETS), figsize=(7.2, 1.2 + 2.4 * len(groups)),
+                         sharex=True, sharey=True, squeeze=False, layout="constrained")
+    top = max((float(evals[config == c].max()) for c in configs), default=1.0)
     grid = np.linspace(0, top, 400)
-    for ax, t in zip(axes, TARGETS):
-        e = numeric(table, target_column(t))
-        for c, col in zip(configs, _colours(len(configs))):
-            m = config == c
-            if m.any():
-                ax.step(grid, stats.ecdf(e[m] * scale[c], grid), where="post", color=col,
-                        label=c, lw=1.2)
-        ax.set_title("optimum (gap < 1e-6)" if t == 0 else f"within {100 * t:g}% of optimum",
-                     fontsize=9)
-        ax.set_xlabel("seconds of search per run" if seconds else "evaluations")
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel("fraction of runs that reached the target")
-    axes[-1].legend(fontsize=6, loc="upper left")
+    colours = dict(zip(configs, _colours(len(configs))))
+    handles = {}
+    for row, g in zip(axes, groups):
+        for ax, t in zip(row, TARGETS):
+            e = numeric(table, target_column(t))
+            for c in configs:
+                m = (group == g) & (config == c)
+                if m.any():
+                    (line,) = ax.step(grid, stats.ecdf(e[m], grid), where="post",
+                                      color=colours[c], label=c, lw=1.2)
+                    handles[c] = line
+            what = "the optimum" if t == 0 else f"within {100 * t:g}%"
+            ax.set_title(f"{g}: {what}", fontsize=8)
+            ax.grid(alpha=0.3)
+        row[0].set_ylabel("fraction of runs")
+    for ax in axes[-1]:
+        ax.set_xlabel("evaluations")
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
+                   ncol=min(3, len(handles)), fontsize=7)
     return save(fig, path)
 
 
 def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
-    groups = list(dict.fromkeys(d["family"] for d in docs))
+    labels = doc_groups(docs)
+    docs = [dict(d, family=g) for d, g in zip(docs, labels)]  # grouped by family and size
+    groups = list(dict.fromkeys(labels))
     fig, axes = subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
     for ax, group in zip(axes[0], groups):
         for c, col in zip(configs, _colours(len(configs))):
@@ -143,12 +173,103 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
     return save(fig, path)
 
 
+def anytime(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
+    """Gap against seconds of a run (one core, log axis), median and quartiles over
+    runs, then the median over a family's scenes; one panel per family, shared axes."""
+    labels = doc_groups(docs)
+    docs = [dict(d, family=g) for d, g in zip(docs, labels)]  # grouped by family and size
+    groups = list(dict.fromkeys(labels))
+    fig, axes = panels(len(groups))
+    colours = dict(zip(configs, _colours(len(configs))))
+    handles, lowest, times = {}, 0.0, []
+    for ax, group in zip(axes, groups):
+        for c in configs:
+            ds = [d for d in docs if d["family"] == group and d["config"] == c
+                  and "anytime_gap" in d["curves"]]
+            if not ds:
+                continue
+            q = np.array([[[np.inf if v is None else v for v in row]
+                           for row in d["curves"]["anytime_gap"]] for d in ds], np.float64)
+            q = 100 * np.median(q, axis=0)  # over scenes: (3, len(GRID)), in %
+            end = max(max(v for v in d["columns"]["time_s"] if v is not None) for d in ds)
+            keep = GRID <= end * 1.0001  # a run's answer is drawn until the runs end
+            q[:, ~keep] = np.nan
+            q[~np.isfinite(q)] = np.nan
+            if np.any(np.isfinite(q)):
+                lowest = min(lowest, float(np.nanmin(q)))
+                times += [float(GRID[keep][0]), float(end)] if keep.any() else []
+            if ds[0].get("solver") == "exact":  # one answer, at its solve time
+                (line,) = ax.plot([end], [0.0], "*", color=colours[c], ms=9, label=c)
+                times.append(end)
+                handles[c] = line
+                continue
+            (line,) = ax.plot(GRID, q[1], color=colours[c], lw=1.3, label=c)
+            ax.fill_between(GRID, q[0], q[2], color=colours[c], alpha=0.15, lw=0)
+            handles[c] = line
+        ax.axhline(0, color="0.4", lw=0.6, ls=":")
+        ax.set_xscale("log")
+        ax.set_yscale("symlog", linthresh=0.1)
+        ax.set_xlabel("seconds of one run (one core)", fontsize=8)
+        ax.set_title(group, fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+    ax = axes[0]
+    ax.set_ylim(bottom=min(-0.02, 1.5 * lowest))
+    ax.set_xlim(*((min(times) / 1.5, max(times) * 1.5) if times else (1e-4, 1.0)))
+    for a in axes[::3]:
+        a.set_ylabel("gap to the optimum (%)", fontsize=8)
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
+                   ncol=min(3, len(handles)), fontsize=7)
+    fig.suptitle("Gap held after t seconds: median and quartiles over runs, median over "
+                 "scenes\n(above the plot: no feasible path yet; below 0: shorter than the "
+                 "optimum)", fontsize=8)
+    return save(fig, path)
+
+
+def time_to_target(table: pd.DataFrame, configs: list[str], path: str) -> str:
+    """ECDF of the seconds a run needs to come within 1% of the optimum and to hit it
+    (one core, log axis); one row of panels per family, shared axes."""
+    family, config = table["group"].to_numpy(), table["config"].to_numpy()
+    groups = list(dict.fromkeys(family.tolist()))
+    targets = [(0.01, "time_1pct", "within 1% of the optimum"),
+               (0.0, "time_hit", "the optimum (gap < 1e-6)")]
+    fig, axes = subplots(len(groups), 2, figsize=(7.2, 1.2 + 2.6 * len(groups)), sharex=True,
+                         sharey=True, squeeze=False, layout="constrained")
+    colours = dict(zip(configs, _colours(len(configs))))
+    secs = {name: numeric(table, name) if name in table else np.full(len(table), np.inf)
+            for _, name, _ in targets}
+    finite = np.concatenate([v[np.isfinite(v)] for v in secs.values()] + [np.ones(1)])
+    grid = np.logspace(np.log10(max(finite.min(), 1e-6)) - 0.2,
+                       np.log10(finite.max()) + 0.2, 300)
+    handles = {}
+    for row, group in zip(axes, groups):
+        for ax, (_, name, title) in zip(row, targets):
+            for c in configs:
+                m = (family == group) & (config == c)
+                if m.any():
+                    (line,) = ax.step(grid, stats.ecdf(secs[name][m], grid), where="post",
+                                      color=colours[c], lw=1.2, label=c)
+                    handles[c] = line
+            ax.set_xscale("log")
+            ax.set_title(f"{group}: {title}", fontsize=8)
+            ax.grid(alpha=0.3)
+        row[0].set_ylabel("fraction of runs")
+    for ax in axes[-1]:
+        ax.set_xlabel("seconds of one run (one core)")
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
+                   ncol=min(3, len(handles)), fontsize=7)
+    return save(fig, path)
+
+
 def all_figures(table: pd.DataFrame, docs: list[dict[str, Any]], rows: list[dict[str, Any]],
                 configs: list[str], folder: str) -> list[str]:
     os.makedirs(folder, exist_ok=True)
-    j = lambda name: os.path.join(folder, name)  # noqa: E731
+    j = lambda name: os.path.join(folder, name)  # noqa: E731 (PNG; a PDF is written beside)
     out = [hit_rates(rows, j("hit_rate.png")), gap_ecdf(table, configs, j("gap_ecdf.png")),
            evaluations_ecdf(table, configs, j("evaluations_ecdf.png")),
-           evaluations_ecdf(table, configs, j("time_ecdf.png"), seconds=True),
+           time_to_target(table, configs, j("time_ecdf.png")),
+           anytime(docs, configs, j("anytime.png")),
            convergence(docs, configs, j("convergence.png"))]
     return out

@@ -22,6 +22,7 @@ from hga_jax import __version__
 from hga_jax.model.fitness import length_of_fitness
 from hga_jax.host.output import write_json
 from hga_jax.running.results import NEAR_GAP, RunsResult, json_safe
+from . import anytime
 from .config import Config
 from .scenes import Scene
 
@@ -32,11 +33,15 @@ QUANTILES = (25, 50, 75)
 def cell_id(config: Config, scene: Scene, seed: int, runs: int,
             yardstick: str = "tight-rope") -> str:
     """The cell's file name: a hash of what determines its runs and its gaps (the
-    yardstick only when it is not the tight-rope optimum, so such ids stay as they were)."""
+    yardstick only when it is not the tight-rope optimum, and the solver only when it
+    is not the batched HGA, so such ids stay as they were)."""
     key = {"settings": _identity(config.settings), "scene": scene.text,
            "seed": seed, "runs": runs, "version": __version__}
     if yardstick != "tight-rope":
         key["yardstick"] = yardstick
+    if config.solver != "hga" or not config.batch:
+        key["solver"] = {"solver": config.solver, "planner": config.planner,
+                         "time_limit": config.time_limit, "batch": config.batch}
     key = json.dumps(key, sort_keys=True)
     return hashlib.sha256(key.encode()).hexdigest()[:20]
 
@@ -81,11 +86,26 @@ def _evals(gen: np.ndarray, population: int) -> list[int | None]:
     return [population * (int(g) + 1) if g >= 0 else None for g in gen]
 
 
-def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full) -> dict:
-    """Everything the tables and figures need from one cell, JSON-ready and columnar."""
+def time_columns(times, gaps) -> dict[str, list]:
+    """``time_5pct``, ``time_1pct``, ``time_hit``: per run the first time (s) within each
+    target of :data:`TARGETS` (None: never), from traces (:mod:`~hga_jax.study.anytime`)."""
+    return {("time_hit" if t == 0 else f"time_{round(100 * t)}pct"):
+            anytime.first_time(times, gaps, t) for t in TARGETS}
+
+
+def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full,
+                  time_s=None) -> dict:
+    """Everything the tables and figures need from one cell, JSON-ready and columnar.
+
+    ``time_s``: per run its seconds of search on one core (default: the batch's search
+    time times its devices, shared evenly by its runs)."""
     s = res.settings
     opt = res.optimum_length
     gen_hit = res.generation_hit
+    runs = len(res.length)
+    if time_s is None:
+        time_s = np.full(runs, res.search_s * res.devices / max(runs, 1))
+    time_s = np.asarray(time_s, np.float64)
     columns: dict[str, list] = {
         "run": res.run_ids.tolist(), "length": res.length.tolist(),
         "feasible": res.feasible.tolist(), "violations": res.violations.tolist(),
@@ -112,8 +132,19 @@ def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full
         curves["within_1pct_fraction"] = np.mean((near >= 0) & (near <= gens), axis=1).tolist()
     curves["run0_best_fitness"] = h["best_fitness"][:, 0].astype(float).tolist()
     curves["run0_best_so_far_fitness"] = h["best_so_far_fitness"][:, 0].astype(float).tolist()
+    generations = h["best_fitness"].shape[0]
+    columns["time_s"] = time_s.tolist()
+    if opt is not None:  # generation g ends at (g + 1) / (G + 1) of the run's time
+        ends = (np.arange(generations)[:, None] + 1) * (time_s[None, :] / generations)
+        gaps = np.where(h["best_so_far_violations"] == 0,
+                        h["best_so_far_length"].astype(np.float64) / opt - 1.0, np.inf)
+        columns.update(time_columns(ends, gaps))
+        columns["time_hit"] = [None if g < 0 else float((g + 1) * t / generations)
+                               for g, t in zip(gen_hit, time_s)]
+        curves["anytime_gap"] = anytime.quartiles(ends, gaps)
     o = res.optimum
     return {
+        "solver": config.solver, "batch": config.batch,
         "config": config.label, "settings": dataclasses.asdict(s), "scenario": scene.name,
         "family": scene.family, "scenario_file": scene.path, "obstacles": scene.scenario.n,
         "seed": res.seed, "runs": len(res.length), "optimum": opt,

@@ -1,6 +1,7 @@
 """Summary tables of a study (CSV, Parquet and Markdown), per group of scenes and configuration.
 
-A group is a scene family (``files`` for the study's scene files). Every
+A group is a scene family (``files`` for the study's scene files), and an obstacle
+count where the family has several (:func:`hga_jax.study.table.group_labels`). Every
 configuration is compared with the reference (the first configuration) on the
 same runs of the same scenes; the tests and the interval methods are named in
 the column headers (see :mod:`hga_jax.study.stats`). The tables here are lists of
@@ -16,6 +17,8 @@ import numpy as np
 import pandas as pd
 
 from . import stats
+from hga_jax.running.results import HIT_GAP
+
 from .store import TARGETS
 from .table import markdown as markdown_table, numeric
 
@@ -35,9 +38,14 @@ def summarize(table: pd.DataFrame, configs: list[str]) -> list[dict[str, Any]]:
     """One row per (group, configuration) with intervals, ERTs and Holm-corrected tests."""
     rows = []
     gap, hit = numeric(table, "gap"), table["hit"].to_numpy(bool)
-    family, config = table["family"].to_numpy(), table["config"].to_numpy()
+    family, config = table["group"].to_numpy(), table["config"].to_numpy()
     scenario = table["scenario"].to_numpy()
     evaluations, time_s = numeric(table, "evaluations"), numeric(table, "time_s")
+    solver = (table["solver"].to_numpy() if "solver" in table
+              else np.full(len(table), "hga", object))
+    compile_s = numeric(table, "compile_s") if "compile_s" in table else np.zeros(len(table))
+    no_path = (table["solved"].to_numpy(object) == False) if "solved" in table else (  # noqa: E712
+        np.zeros(len(table), bool))  # a planner that returned no path (OMPL)
     for group in dict.fromkeys(family.tolist()):
         in_group = family == group
         ref = in_group & (config == configs[0])
@@ -50,21 +58,27 @@ def summarize(table: pd.DataFrame, configs: list[str]) -> list[dict[str, Any]]:
             med, mlo, mhi = stats.median_ci(gap[m])
             feas = gap[m][np.isfinite(gap[m])]
             evals = evaluations[m]
-            time_per_eval = float(np.sum(time_s[m]) / np.sum(evals))
+            counted = bool(np.all(np.isfinite(evals)))
             row: dict[str, Any] = {
-                "group": group, "config": label,
+                "group": group, "config": label, "solver": str(solver[m][0]),
                 "scenes": len(set(scenario[m].tolist())), "runs": n,
                 "feasible_rate": float(np.mean(np.isfinite(gap[m]))),
+                "infeasible_runs": int(np.sum(~np.isfinite(gap[m]))),
+                "no_path_runs": int(np.sum(no_path[m])),
+                "shorter_runs": int(np.sum(feas < -HIT_GAP)),
+                "gap_min": float(feas.min()) if len(feas) else math.nan,
                 "hit_rate": k / n, "hit_rate_ci_low": lo, "hit_rate_ci_high": hi,
                 "gap_median": med, "gap_median_ci_low": mlo, "gap_median_ci_high": mhi,
                 "gap_mean_feasible": float(feas.mean()) if len(feas) else math.nan,
-                "evaluations_per_run": float(evals.mean()),
+                "evaluations_per_run": float(evals.mean()) if counted else math.nan,
                 "time_per_run_ms": 1000 * float(np.mean(time_s[m])),
+                "time_per_run_median_ms": 1000 * float(np.median(time_s[m])),
+                "compile_s": float(np.max(compile_s[m])),
             }
             for t in TARGETS:
-                e = stats.ert(numeric(table, target_column(t))[m], evals)
-                row[f"ert_evaluations_{_tag(t)}"] = e
-                row[f"ert_seconds_{_tag(t)}"] = e * time_per_eval
+                row[f"ert_evaluations_{_tag(t)}"] = (
+                    stats.ert(numeric(table, target_column(t))[m], evals) if counted else math.nan)
+                row[f"ert_seconds_{_tag(t)}"] = stats.ert(_seconds_to(table, t)[m], time_s[m])
             same = label != configs[0] and ref.any()
             row["reference"] = configs[0]
             row["p_gap_mwu"] = stats.mann_whitney(gap[m], gap[ref]) if same else math.nan
@@ -75,6 +89,16 @@ def summarize(table: pd.DataFrame, configs: list[str]) -> list[dict[str, Any]]:
         for r, p in zip(rows, stats.holm([r[name] for r in rows])):
             r[name + "_holm"] = float(p)
     return rows
+
+
+def _seconds_to(table: pd.DataFrame, t: float) -> np.ndarray:
+    """Per run the seconds to target ``t`` (inf: never); from the evaluations to it and
+    the run's seconds per evaluation in tables written before times to targets."""
+    name = "time_hit" if t == 0 else f"time_{_tag(t)}"
+    if name in table:
+        return numeric(table, name)
+    return numeric(table, target_column(t)) * numeric(table, "time_s") / numeric(
+        table, "evaluations")
 
 
 def by_scene(table: pd.DataFrame, configs: list[str]) -> list[dict[str, Any]]:
@@ -110,25 +134,48 @@ def _p(v: float) -> str:
     return "-" if math.isnan(v) else ("<1e-4" if v < 1e-4 else f"{v:.3g}")
 
 
-COLUMNS = ("configuration", "runs", "hit rate [95% Wilson]", "median gap [95% bootstrap]",
-           "feasible", "ERT evals to 1%", "ERT evals to hit", "ERT s to hit", "ms/run",
+COLUMNS = ("configuration", "solver", "runs", "hit rate [95% Wilson]",
+           "median gap [95% bootstrap]", "feasible", "shorter than optimum", "ERT evals to hit",
+           "ERT s to hit", "ERT s to 1%", "s/run (median)", "compile s",
            f"p gap ({MWU})", f"p hits ({FISHER})")
 
 
 def _cells(r: dict[str, Any]) -> list[str]:
     """One summary row as the Markdown table's cells (rates and gaps in percent)."""
     pct = lambda name: _fmt(r[name], True)  # noqa: E731
-    return [str(r["config"]), str(r["runs"]),
+    shorter = (f"{r['shorter_runs']} (down to {_fmt(r['gap_min'], True)})"
+               if r.get("shorter_runs") else "0")
+    return [str(r["config"]), str(r.get("solver", "hga")), str(r["runs"]),
             f"{pct('hit_rate')} [{pct('hit_rate_ci_low')}, {pct('hit_rate_ci_high')}]",
             f"{pct('gap_median')} [{pct('gap_median_ci_low')}, {pct('gap_median_ci_high')}]",
-            pct("feasible_rate"), _fmt(r["ert_evaluations_1pct"]),
-            _fmt(r["ert_evaluations_0pct"]), _fmt(r["ert_seconds_0pct"]),
-            _fmt(r["time_per_run_ms"]), _p(r["p_gap_mwu_holm"]), _p(r["p_hit_fisher_holm"])]
+            f"{pct('feasible_rate')} ({r.get('infeasible_runs', 0)} infeasible"
+            + (f"; {r['no_path_runs']} found no path)" if r.get("no_path_runs") else ")"),
+            shorter, _fmt(r["ert_evaluations_0pct"]), _fmt(r["ert_seconds_0pct"]),
+            _fmt(r["ert_seconds_1pct"]), _fmt(r.get("time_per_run_median_ms", math.nan) / 1000),
+            _fmt(r.get("compile_s", math.nan)),
+            _p(r["p_gap_mwu_holm"]), _p(r["p_hit_fisher_holm"])]
 
 
-def markdown(rows: list[dict[str, Any]], title: str) -> str:
-    """Markdown text: the title, then one table per group."""
-    out = [f"# {title}", ""]
+NOTES = (
+    "Every length is the project's float64 model's; a peer's path is judged again under "
+    "the full collision rule, and one that clips an obstacle counts as infeasible. "
+    "A hit is a gap below 1e-6. An infeasible run is one whose path violates the model, "
+    "or a planner's run that found no path (said apart). \"shorter than optimum\": feasible runs whose path is "
+    "shorter than the optimum the gaps are taken to (a negative gap: the path turns in "
+    "free space, which the tight-rope model does not allow). Times: seconds of one run "
+    "on one core, compile excluded (a batched run: its share of the batch's "
+    "core-seconds); ERT: expected running time to the target (restarts counted), "
+    "evaluations or seconds; solvers that count no evaluations show \"-\".")
+
+
+def markdown(rows: list[dict[str, Any]], title: str, skipped: dict[str, str] | None = None,
+             note: str | None = None) -> str:
+    """Markdown text: the title, notes (skipped configurations too), one table per group."""
+    out = [f"# {title}", "", NOTES, ""]
+    for label, why in (skipped or {}).items():
+        out += [f"Skipped `{label}`: {why}.", ""]
+    if note:
+        out += [f"Note: {note}.", ""]
     for group in dict.fromkeys(r["group"] for r in rows):
         mine = [r for r in rows if r["group"] == group]
         frame = pd.DataFrame([_cells(r) for r in mine], columns=list(COLUMNS))

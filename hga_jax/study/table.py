@@ -26,7 +26,7 @@ import pandas as pd
 from hga_jax.host.output import write_file
 from hga_jax.running.results import json_safe
 
-ID_COLUMNS = ("study", "config", "family", "scenario", "obstacles", "seed")
+ID_COLUMNS = ("study", "config", "solver", "family", "group", "scenario", "obstacles", "seed")
 
 
 def _column(values: list) -> Any:
@@ -51,24 +51,49 @@ def build(study: str, docs: Iterable[dict[str, Any]]) -> pd.DataFrame:
     """One row per run of every cell document, in plan order."""
     parts: dict[str, list] = {}
     settings_keys: list[str] = []
+    done = 0  # rows so far
     for doc in docs:
         n = doc["runs"]
-        consts = {"study": study, "config": doc["config"], "family": doc["family"],
-                  "scenario": doc["scenario"], "obstacles": doc["obstacles"],
-                  "seed": doc["seed"]}
+        consts = {"study": study, "config": doc["config"], "solver": doc.get("solver", "hga"),
+                  "family": doc["family"], "scenario": doc["scenario"],
+                  "obstacles": doc["obstacles"], "seed": doc["seed"]}
         consts.update(doc["settings"])
         settings_keys = settings_keys or list(doc["settings"])
         cols = dict(doc["columns"])
         cols["optimum"] = [doc["optimum"]] * n
-        cols["evaluations"] = [doc["evaluations_per_run"]] * n
-        cols["time_s"] = [doc["search_s"] / n] * n
-        for k, v in consts.items():
-            parts.setdefault(k, []).extend([v] * n)
-        for k, v in cols.items():
-            parts.setdefault(k, []).extend(v)
+        cols["evaluations"] = ([c for c in cols.pop("evaluations_run")] if "evaluations_run"
+                               in cols else [doc["evaluations_per_run"]] * n)
+        if "time_s" not in cols:  # cells written before times per run
+            cols["time_s"] = [doc["search_s"] / n] * n
+        cols["compile_s"] = [doc.get("compile_s", 0.0)] * n
+        row = {**{k: [v] * n for k, v in consts.items()}, **cols}
+        for k in row:
+            if k not in parts:  # a column earlier cells lack (a peer's own)
+                parts[k] = [None] * done
+        for k, v in parts.items():
+            v.extend(row.get(k, [None] * n))
+        done += n
+    if done:
+        parts["group"] = group_labels(parts["family"], parts["obstacles"])
     order = list(ID_COLUMNS) + ["run"] + settings_keys + [
         k for k in parts if k not in ID_COLUMNS and k != "run" and k not in settings_keys]
     return pd.DataFrame({k: _column(parts[k]) for k in order if k in parts})
+
+
+def group_labels(families: list, obstacles: list) -> list[str]:
+    """The group of each row: its family, and its obstacle count where the family has
+    several (``"obstructed, 15 obstacles"``), so that no summary or figure pools
+    scenes of different sizes."""
+    counts: dict[Any, set] = {}
+    for f, n in zip(families, obstacles):
+        counts.setdefault(f, set()).add(n)
+    return [f if len(counts[f]) == 1 else f"{f}, {n} obstacles"
+            for f, n in zip(families, obstacles)]
+
+
+def doc_groups(docs: list[dict[str, Any]]) -> list[str]:
+    """:func:`group_labels` of cell documents, one per document."""
+    return group_labels([d["family"] for d in docs], [d["obstacles"] for d in docs])
 
 
 def numeric(table: pd.DataFrame, name: str) -> np.ndarray:

@@ -1,8 +1,8 @@
 """The path model in plain Python: one chromosome at a time, floats and ``math`` only.
 
 This is the decoder a DEAP user writes from the model's definition (docs/model.md)
-for the fitness of the paper's GA (``deap_hga.py``). It shares no code with
-hga-jax's decoder: it takes the scenario's numbers (robot, poses, obstacles,
+for the fitness of the paper's GA (:mod:`hga_jax.peers.deap_ga`). It shares no
+code with hga-jax's decoder: it takes the scenario's numbers (robot, poses, obstacles,
 field) and nothing else, and works with angles (``atan2``, ``asin``) where hga-jax
 works with cross products and a precomputed tangent table.
 

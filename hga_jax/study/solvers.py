@@ -1,0 +1,218 @@
+"""One cell of a study with any solver: the HGA (batched or one run at a time), random
+search, the exact solver, the DEAP GA or an OMPL planner (:data:`~hga_jax.study.config.SOLVERS`).
+
+Every solver's cell document has the same columns (:func:`hga_jax.study.store.cell_document`
+for the HGA and random search, :func:`peer_document` for the others), so one store,
+table, summary and set of figures serves them all. Every length is the project's
+float64 model's: the DEAP GA's best chromosome is decoded again by
+:func:`~hga_jax.model.path.evaluate_path`, an OMPL path is rebuilt from its waypoints and
+judged by :mod:`hga_jax.peers.judge` under the full collision rule (a path OMPL
+accepted that clips an obstacle is infeasible), the exact solver's optimum is what
+it is. Gaps are to the study's yardstick optimum; a peer may find a path shorter
+than the tight-rope optimum (it turns in free space): its gap is negative.
+
+Times are seconds of one run on one core, compile excluded (:mod:`~hga_jax.study.anytime`).
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from hga_jax.model.exact import solve
+from hga_jax.model.path import decode64, evaluate_path
+from hga_jax.running.results import HIT_GAP
+from hga_jax.running.runner import run_many
+from . import anytime
+from .config import Config, Study
+from .scenes import Scene
+from .store import TARGETS, _evals, cell_document, time_columns
+
+
+def run_cell(study: Study, config: Config, scene: Scene) -> dict[str, Any]:
+    """Run ``config`` on ``scene`` for the study's runs and describe the cell."""
+    runs = study.runs_of(config)
+    if config.solver in ("hga", "random"):
+        return _ga_cell(study, config, scene, runs)
+    optimum = solve(scene.scenario, turns=study.yardstick)
+    if config.solver == "exact":
+        return _exact_cell(study, config, scene, optimum)
+    if config.solver == "deap":
+        return _deap_cell(study, config, scene, runs, optimum)
+    return _ompl_cell(study, config, scene, runs, optimum)
+
+
+def _ga_cell(study: Study, config: Config, scene: Scene, runs: int) -> dict[str, Any]:
+    sc = scene.scenario
+    if config.batch:
+        res = run_many(sc, config.settings, seed=study.seed, runs=runs, turns=study.yardstick)
+        times = None
+    else:  # each run alone: one compiled shape, called once per run
+        parts = [run_many(sc, config.settings, seed=study.seed, runs=1, first_run=k,
+                          turns=study.yardstick, exact=k == 0) for k in range(runs)]
+        res = _joined(parts)
+        times = [p.search_s * p.devices for p in parts]
+    full = res.violations
+    if config.settings.collision != "full":
+        full = decode64(sc, res.perm, res.labels, "full").violations
+    return cell_document(res, config, scene, full, times)
+
+
+def _joined(parts):
+    """One result of runs searched one at a time (in run order)."""
+    first = parts[0]
+    cat = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
+    best = min(parts, key=lambda p: (not p.best.feasible, p.best.length))
+    return dataclasses.replace(
+        first, run_ids=cat("run_ids"), perm=cat("perm"), labels=cat("labels"),
+        legs=None if first.legs is None else cat("legs"), length=cat("length"),
+        violations=cat("violations"), generation=cat("generation"),
+        history={k: np.concatenate([p.history[k] for p in parts], axis=1)
+                 for k in first.history},
+        best=best.best, best_run=best.best_run, compile_s=first.compile_s,
+        search_s=sum(p.search_s for p in parts), finish_s=sum(p.finish_s for p in parts),
+        evaluations=sum(p.evaluations for p in parts))
+
+
+def _gap(length: float, feasible: bool, opt: float | None) -> float:
+    if opt is None or not feasible:
+        return np.inf
+    return length / opt - 1.0 if opt > 0 else (0.0 if length <= 1e-9 else np.inf)
+
+
+def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: list[dict],
+                  extra: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The cell document of a solver outside the batched GA, from one dict per run:
+    ``length`` (m, float64 model), ``violations`` (the configuration's collision rule),
+    ``violations_full``, ``time_s``, ``evaluations`` (None: not counted),
+    ``generation_best`` (None: no generations), ``trace_t``/``trace_gap`` (anytime trace),
+    ``generations`` (per trace point, or None). An OMPL cell also keeps ``paths``: per
+    run the waypoint poses ``[x, y, heading]`` of its final path (None: none found)."""
+    opt = optimum.length if optimum is not None and optimum.feasible else None
+    gap = [_gap(r["length"], r["violations"] == 0, opt) for r in rows]
+    n = len(rows)
+    k = max(1, max(len(r["trace_t"]) for r in rows))
+    pad = lambda v, fill: list(v) + [v[-1] if v else fill] * (k - len(v))  # noqa: E731
+    times = np.array([pad(r["trace_t"], np.inf) for r in rows], np.float64).T
+    gaps = np.array([pad(r["trace_gap"], np.inf) for r in rows], np.float64).T
+    columns: dict[str, list] = {
+        "run": list(range(n)), "length": [r["length"] for r in rows],
+        "feasible": [r["violations"] == 0 for r in rows],
+        "violations": [r["violations"] for r in rows],
+        "violations_full": [r["violations_full"] for r in rows],
+        "gap": [None if not np.isfinite(g) else float(g) for g in gap],
+        "hit": [bool(g < HIT_GAP) for g in gap],
+        "generation_best": [r["generation_best"] for r in rows],
+    }
+    gens = [r.get("generations") for r in rows]
+    for t in TARGETS:
+        tag = "hit" if t == 0 else f"{round(100 * t)}pct"
+        first = [_first_generation(g, tg, t) if g is not None else None
+                 for g, tg in zip(gens, (r["trace_gap"] for r in rows))]
+        columns[f"generation_{tag}"] = first
+        columns[f"evaluations_{tag}"] = (
+            _evals(np.array([-1 if f is None else f for f in first]), config.settings.population)
+            if config.solver == "deap" else [None] * n)
+    columns["evaluations_run"] = [r["evaluations"] for r in rows]
+    columns["time_s"] = [r["time_s"] for r in rows]
+    columns.update(time_columns(times, gaps))
+    evaluations = [r["evaluations"] for r in rows]
+    return {
+        "solver": config.solver, "batch": True, "config": config.label,
+        "settings": dataclasses.asdict(config.settings), "scenario": scene.name,
+        "family": scene.family, "scenario_file": scene.path, "obstacles": scene.scenario.n,
+        "seed": study.seed, "runs": n, "optimum": opt,
+        "yardstick": optimum.turns if optimum is not None else None,
+        "tight_rope_optimum": (optimum.tight_rope_length if optimum is not None
+                               and optimum.turns == "free" else opt),
+        "optimum_touched": len(optimum.touched) if optimum is not None else None,
+        "exact_s": optimum.seconds if optimum is not None else None,
+        "compile_s": 0.0, "search_s": float(sum(r["time_s"] for r in rows)), "finish_s": 0.0,
+        "devices": 1,
+        "evaluations_per_run": (float(np.mean(evaluations))
+                                if all(e is not None for e in evaluations) else None),
+        "best": _best(rows, gap),
+        "columns": columns, "curves": {"anytime_gap": anytime.quartiles(times, gaps)},
+        **(extra or {}),
+    }
+
+
+def _first_generation(gens, gaps, target: float) -> int | None:
+    for g, v in zip(gens, gaps):
+        if v <= target + anytime.SLACK * (1.0 + target):
+            return int(g)
+    return None
+
+
+def _best(rows: list[dict], gap: list[float]) -> dict[str, Any]:
+    """The cell's best run: the shortest feasible path, else the fewest violations."""
+    i = min(range(len(rows)), key=lambda j: (rows[j]["violations"], rows[j]["length"]))
+    return {"run": i, "length": rows[i]["length"], "feasible": rows[i]["violations"] == 0,
+            "violations": rows[i]["violations"]}
+
+
+def _exact_cell(study: Study, config: Config, scene: Scene, optimum) -> dict[str, Any]:
+    feasible = optimum.feasible
+    length = float(optimum.length) if feasible else np.inf
+    row = {"length": length, "violations": 0 if feasible else 1,
+           "violations_full": 0 if feasible else 1, "time_s": optimum.seconds,
+           "evaluations": None, "generation_best": None,
+           "trace_t": [optimum.seconds], "trace_gap": [0.0 if feasible else np.inf]}
+    return peer_document(study, config, scene, optimum, [row])
+
+
+def _deap_cell(study, config, scene, runs, optimum) -> dict[str, Any]:
+    from hga_jax.peers.deap_ga import run
+    from hga_jax.peers.python_decoder import PythonDecoder
+
+    sc, s = scene.scenario, config.settings
+    opt = optimum.length if optimum.feasible else None
+    decoder = PythonDecoder.from_scenario(sc, s.collision)
+    rows = []
+    for k in range(runs):
+        r = run(sc, s, study.seed, k, decoder)
+        path = evaluate_path(sc, r["perm"], r["labels"], s.collision)
+        full = path if s.collision == "full" else evaluate_path(sc, r["perm"], r["labels"])
+        rows.append({"length": path.length, "violations": path.violations,
+                     "violations_full": full.violations, "time_s": r["seconds"],
+                     "evaluations": r["evaluations"], "generation_best": r["generation"],
+                     "trace_t": [t for t, *_ in r["trace"]],
+                     "trace_gap": [_gap(length, v == 0, opt) for _, _, length, v in r["trace"]],
+                     "generations": list(range(len(r["trace"])))})
+    return peer_document(study, config, scene, optimum, rows)
+
+
+def _ompl_cell(study, config, scene, runs, optimum) -> dict[str, Any]:
+    from hga_jax.peers.judge import judge_poses
+    from hga_jax.peers.ompl_planner import plan
+
+    sc = scene.scenario
+    opt = optimum.length if optimum.feasible else None
+    rows, checks, ompl_lengths, paths = [], [], [], []
+    for k in range(runs):
+        r = plan(sc, config.planner, config.time_limit, study.seed)
+        trace_t, trace_gap, last, final = [], [], None, None
+        for t, poses in r["checkpoints"]:
+            if poses is None:
+                continue
+            last, final = judge_poses(sc, poses), poses
+            trace_t.append(t)
+            trace_gap.append(_gap(last.length, last.feasible, opt))
+        paths.append(final)
+        solved = last is not None
+        rows.append({"length": last.length if solved else np.inf,
+                     "violations": last.violations if solved else 1,
+                     "violations_full": last.violations if solved else 1,
+                     "time_s": r["seconds"], "evaluations": None, "generation_best": None,
+                     "trace_t": trace_t, "trace_gap": trace_gap})
+        checks.append(r["checks"])
+        ompl_lengths.append(r["ompl_length"])
+    doc = peer_document(study, config, scene, optimum, rows,
+                        {"planner": config.planner, "time_limit": config.time_limit,
+                         "paths": [None if p is None else [list(q) for q in p] for p in paths]})
+    doc["columns"]["state_checks"] = checks
+    doc["columns"]["ompl_length"] = [None if not np.isfinite(v) else float(v)
+                                     for v in ompl_lengths]
+    doc["columns"]["solved"] = [bool(np.isfinite(r["length"])) for r in rows]
+    return doc
