@@ -14,24 +14,42 @@ The model and the result files are defined in docs/model.md.
 """
 __version__ = "0.4.0"
 
-from hga_jax.running import distributed  # distributed.initialize: one job over several processes
-from hga_jax.host.config import load_scenario, scenario_from_dict
-from hga_jax.running.devices import use_cpu_cores
-from .errors import ConfigError, Interrupted, ModelMismatchError
-from hga_jax.model.exact import solve
-from hga_jax.model.path import Path, evaluate_path, from_chromosome
-from hga_jax.host.plots import plot_convergence, plot_path, save_figure
-from hga_jax.host.report import run_summary, write_run
-from hga_jax.running.results import RunsResult
-from hga_jax.running.runner import enable_compilation_cache, run_many, settings_for
-from hga_jax.model.scenario import Field, Scenario
-from hga_jax.search.settings import PAPER, PRESETS, RECOMMENDED, GASettings, preset
+import importlib
+from typing import Any
 
-__all__ = [
-    "ConfigError", "Field", "GASettings", "Interrupted", "ModelMismatchError", "PAPER", "PRESETS",
-    "Path", "RECOMMENDED", "RunsResult", "Scenario", "preset",
-    "enable_compilation_cache", "use_cpu_cores",
-    "evaluate_path", "from_chromosome", "load_scenario", "plot_convergence", "plot_path",
-    "run_many", "run_summary", "save_figure", "scenario_from_dict", "settings_for", "solve",
-    "write_run",
-]
+_EXPORTS = {  # name -> module it lives in; imported on first use, so that importing
+    # hga_jax (and the command line's help and checks) does not import JAX
+    "distributed": "hga_jax.running.distributed",  # one job over several processes
+    "load_scenario": "hga_jax.host.config", "scenario_from_dict": "hga_jax.host.config",
+    "use_cpu_cores": "hga_jax.running.devices",
+    "ConfigError": "hga_jax.errors", "Interrupted": "hga_jax.errors",
+    "ModelMismatchError": "hga_jax.errors",
+    "solve": "hga_jax.model.exact",
+    "Path": "hga_jax.model.path", "evaluate_path": "hga_jax.model.path",
+    "from_chromosome": "hga_jax.model.path",
+    "plot_convergence": "hga_jax.host.plots", "plot_path": "hga_jax.host.plots",
+    "save_figure": "hga_jax.host.plots",
+    "run_summary": "hga_jax.host.report", "write_run": "hga_jax.host.report",
+    "RunsResult": "hga_jax.running.results",
+    "enable_compilation_cache": "hga_jax.running.runner", "run_many": "hga_jax.running.runner",
+    "settings_for": "hga_jax.running.runner",
+    "Field": "hga_jax.model.scenario", "Scenario": "hga_jax.model.scenario",
+    "PAPER": "hga_jax.search.settings", "PRESETS": "hga_jax.search.settings",
+    "RECOMMENDED": "hga_jax.search.settings", "GASettings": "hga_jax.search.settings",
+    "preset": "hga_jax.search.settings",
+}
+
+__all__ = sorted(k for k in _EXPORTS if k != "distributed")
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'hga_jax' has no attribute {name!r}")
+    module = importlib.import_module(_EXPORTS[name])
+    value = module if name == "distributed" else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))

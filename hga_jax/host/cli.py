@@ -1,6 +1,11 @@
 """The ``hga-jax`` command: ``run`` (many seeded GA runs), ``exact`` (the optimum),
-``check`` (validate files), ``plot`` (redraw a result file) and ``study`` (a grid of
-settings over scenes; :mod:`hga_jax.study.cli`).
+``check`` (validate files), ``plot`` (redraw a result file), ``export`` (a result's
+path as poses at a chosen spacing, CSV and JSON; :mod:`hga_jax.host.poses`) and
+``study`` (a grid of settings over scenes; :mod:`hga_jax.study.cli`).
+
+``--start X,Y,HEADING_DEG`` and ``--goal`` (``run``, ``exact``, ``check``) replace
+the scenario file's start or goal and are checked by the scenario's own rules
+(:func:`hga_jax.host.config.scenario_from_dict`).
 
 Settings are layered: the preset's, the scenario's ``[ga]`` table, a ``--ga``
 TOML file (top-level keys are settings), then command-line flags; an error names
@@ -29,6 +34,7 @@ import argparse
 import contextlib
 import errno
 import json
+import math
 import os
 import signal
 import sys
@@ -96,8 +102,17 @@ class _Help(argparse.ArgumentDefaultsHelpFormatter):
         return super()._get_help_string(action)
 
 
+class _Parser(argparse.ArgumentParser):
+    """Usage errors (a bad flag value, a missing argument) as one line, exit status 2,
+    like every other input error; ``--help`` still shows the whole usage."""
+
+    def error(self, message: str):  # noqa: D401 (argparse's name)
+        _error(f"{self.prog}: {message} (see {self.prog} --help)")
+        sys.exit(2)
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="hga-jax", formatter_class=_Help, description=(
+    p = _Parser(prog="hga-jax", formatter_class=_Help, description=(
         "Shortest Dubins-car paths among circular obstacles: hierarchical GA in JAX, "
         "compared with the model's exact optimum."))
     p.add_argument("--version", action="version", version=f"hga-jax {__version__}")
@@ -131,6 +146,7 @@ def _parser() -> argparse.ArgumentParser:
                            "P" if kind is float else "N"),
                        help=f"{text} (recommended: {getattr(RECOMMENDED, key)}, "
                             f"paper: {getattr(PAPER, key)}){tail}")
+    _pose_args(run)
     _plugin_arg(run)
     run.add_argument("--chunk", type=int, metavar="N", help="runs per compiled batch (default: "
                      "about 50,000 chromosomes per batch, fewer if memory is short)")
@@ -162,6 +178,7 @@ def _parser() -> argparse.ArgumentParser:
                     help="the model: tight-rope (the paper's: turns on the model circles "
                     "only) or free (also on circles of radius rho in free space: the car's "
                     "shortest path; needs the full collision test)")
+    _pose_args(ex)
     _plugin_arg(ex)
     _output_args(ex, "results/<scenario file name>-exact")
 
@@ -170,6 +187,7 @@ def _parser() -> argparse.ArgumentParser:
                         "a --ga file on top of each); one line per file; exit 2 if any is bad.")
     ck.add_argument("scenario", nargs="+", help="scenario TOML files")
     ck.add_argument("--ga", metavar="GA.toml", help="GA settings file to check as well")
+    _pose_args(ck)
     _plugin_arg(ck)
 
     pl = sub.add_parser("plot", help="redraw a path from a result.json", formatter_class=_Help,
@@ -186,8 +204,49 @@ def _parser() -> argparse.ArgumentParser:
     pl.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on disk")
     _plugin_arg(pl)
 
-    study_cli.add_parser(sub)  # hga-jax study: see hga_jax/study/cli.py
+    xp = sub.add_parser("export", help="a result's path as poses (CSV and JSON)",
+                        formatter_class=_Help, description="Sample the best path of a result "
+                        "file, or run K's, every SPACING metres (and at each segment boundary "
+                        "and both ends) as poses s, x, y, heading, curvature; writes "
+                        "poses.csv and poses.json.")
+    xp.add_argument("result", help="result.json written by run or exact")
+    xp.add_argument("--spacing", default="0.01", metavar="M",
+                    help="metres between poses along the path (> 0)")
+    xp.add_argument("--run", type=int, metavar="K", help="export run K's best path (default: "
+                    "the result's best)")
+    xp.add_argument("--out", metavar="DIR", help="folder to write to (default: the result "
+                    "file's folder); files poses.csv and poses.json, or poses_run<K>.csv and "
+                    "poses_run<K>.json with --run")
+    xp.add_argument("--force", action="store_true", help="replace existing pose files")
+    xp.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on disk")
+    _plugin_arg(xp)
+
+    study_cli.add_parser(sub, _Help)  # hga-jax study: see hga_jax/study/cli.py
     return p
+
+
+def _pose_args(p: argparse.ArgumentParser) -> None:
+    for key in ("start", "goal"):
+        p.add_argument(f"--{key}", metavar="X,Y,HEADING_DEG",
+                       help=f"replace the scenario's {key} pose: metres, metres, degrees "
+                       f"counter-clockwise from +x (--{key}=-1,2,90 for a negative X)")
+
+
+def _pose_flags(args) -> dict[str, Any]:
+    """``--start`` and ``--goal`` as overrides of the scenario file's poses
+    (:data:`hga_jax.host.config.PoseOverride`); the scenario's rules check them."""
+    poses = {}
+    for key in ("start", "goal"):
+        text = getattr(args, key, None)
+        if text is None:
+            continue
+        try:
+            x, y, heading = (float(part) for part in text.split(","))
+        except ValueError:
+            raise validation.error("command line", f"--{key}", "must be X,Y,HEADING_DEG "
+                                   f"(metres, metres, degrees), got {text!r}") from None
+        poses[key] = ({"x": x, "y": y, "heading_deg": heading}, "command line", f"--{key}")
+    return poses
 
 
 def _plugin_arg(p: argparse.ArgumentParser) -> None:
@@ -294,7 +353,7 @@ def _emit(text: str) -> None:
 
 def _cmd_run(args) -> int:
     plugins = _plugins(args)
-    scenario = load_scenario(args.scenario)
+    scenario = load_scenario(args.scenario, _pose_flags(args))
     settings = _settings(scenario, args.ga, {k: getattr(args, k) for k in GA_FLAGS},
                          PRESETS[args.preset])
     validation.run_range(args.seed, args.runs, args.first_run, args.chunk, "command line",
@@ -342,7 +401,7 @@ def _cmd_run(args) -> int:
 
 def _cmd_exact(args) -> int:
     _plugins(args)
-    scenario = load_scenario(args.scenario)
+    scenario = load_scenario(args.scenario, _pose_flags(args))
     collision = args.collision or _settings(scenario, None, {}).collision
     validation.turns(args.turns, collision, "command line", "--turns")
     out = args.out or _default_out(args.scenario, "-exact")
@@ -368,11 +427,12 @@ def _cmd_check(args) -> int:
     from hga_jax.running.progress import count
 
     plugins = _plugins(args)
+    poses = _pose_flags(args)
     bad = 0
     ga_ok = args.ga is not None
     for path in args.scenario:
         try:
-            sc = load_scenario(path)
+            sc = load_scenario(path, poses)
             _settings(sc, None, {})
         except ConfigError as e:
             _error(str(e))
@@ -414,6 +474,79 @@ def _cmd_plot(args) -> int:
     return 0
 
 
+MAX_POSES = 1_000_000  # poses one export may write
+
+
+def _cmd_export(args) -> int:
+    from hga_jax.running.progress import count
+
+    from . import poses
+    from .report import load_result, result_path, result_scenario
+
+    _plugins(args)
+    try:
+        spacing = float(args.spacing)
+    except ValueError:
+        spacing = math.nan
+    if not (math.isfinite(spacing) and spacing > 0.0):
+        raise validation.error("command line", "--spacing", "must be a number of metres > 0, "
+                               f"got {args.spacing!r}")
+    folder = args.out or os.path.dirname(args.result) or "."
+    tail = "" if args.run is None else f"_run{args.run}"
+    files = [os.path.join(folder, f"poses{tail}.{ext}") for ext in ("csv", "json")]
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise ConfigError(f"{folder}: output folder: exists and is not a folder")
+    for name in files:
+        if os.path.exists(name) and not args.force:
+            raise ConfigError(f"{name}: already exists (use --force to replace it, or --out)")
+    data = load_result(args.result)
+    sc = result_scenario(args.result, data)
+    if args.run is not None:
+        _cache(args)  # run K's path is decoded again
+    chosen = result_path(args.result, data, sc, args.run)
+    key = "best" if args.run is None else "per_run"
+    if chosen is None:
+        raise ConfigError(f"{args.result}: best: no path in this result (no feasible path "
+                          "exists)")
+    length = float(chosen["length"])
+    if length / spacing > MAX_POSES:
+        raise validation.error("command line", "--spacing", f"{spacing:g} m makes "
+                               f"{length / spacing:,.0f} poses along {length:.6f} m; at most "
+                               f"{MAX_POSES:,}")
+    table = poses.sample(chosen["segments"], spacing, start=sc.start)
+    _check_ends(f"{args.result}: {key}", table, length, sc)
+    what = "best path" if args.run is None else f"best path of run {args.run}"
+    meta = {"source": args.result, "scenario": sc.name, "path": what, "run": chosen.get("run"),
+            "length": length, "feasible": bool(chosen["feasible"]),
+            "violations": int(chosen["violations"]), "spacing": spacing, "count": len(table)}
+    with _ctrl_c_deferred():
+        poses.write_csv(files[0], table)
+        poses.write_json(files[1], table, meta)
+    if not chosen["feasible"]:
+        _warn(f"{args.result}: the {what} is infeasible "
+              f"({count(int(chosen['violations']), 'violation')}); exported as it is")
+    _emit(f"wrote {files[0]}, {files[1]}: {count(len(table), 'pose')} every {spacing:g} m "
+          f"along the {what} ({length:.6f} m)")
+    return 0
+
+
+def _check_ends(where: str, table, length: float, sc) -> None:
+    """The sampled path must have the file's length and start and end at the
+    scenario's start and goal poses (1e-6 m and rad); else a ConfigError."""
+    from .poses import wrap
+
+    tol = 1e-6 * max(1.0, length)
+    if abs(table[-1, 0] - length) > tol:
+        raise ConfigError(f"{where}: segments: sum to {table[-1, 0]:.9f} m, not the path's "
+                          f"length {length:.9f} m")
+    for name, row, (x, y, heading) in (("start", table[0], sc.start), ("goal", table[-1], sc.goal)):
+        if math.dist(row[1:3], (x, y)) > tol or abs(wrap(row[3] - heading)) > 1e-6:
+            raise ConfigError(
+                f"{where}: segments: the path's {name} pose ({row[1]:.6g}, {row[2]:.6g}, "
+                f"{math.degrees(row[3]):.6g} deg) is not the scenario's ({x:.6g}, {y:.6g}, "
+                f"{math.degrees(heading):.6g} deg)")
+
+
 def _error(message: str) -> None:
     print(f"hga-jax: error: {message}", file=sys.stderr, flush=True)
 
@@ -428,7 +561,7 @@ def _silence_stdout() -> None:
 
 COMMANDS: dict[str, Callable[[Any], int]] = {
     "run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check, "plot": _cmd_plot,
-    "study": study_cli.run}
+    "export": _cmd_export, "study": study_cli.run}
 
 
 def _use_file_backend() -> None:

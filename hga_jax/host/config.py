@@ -130,48 +130,66 @@ def _obstacles(items: Any, r: float, source: str) -> tuple[np.ndarray, np.ndarra
     return np.asarray(centres, float).reshape(-1, 2), np.asarray(radii, float)
 
 
-def _check_pose(s: Scenario, key: str, pose: tuple[float, float, float]) -> None:
+def _check_pose(s: Scenario, pose: tuple[float, float, float], source: str, key: str) -> None:
     """Raise if the pose point is inside a model circle or (kept) outside the field."""
     x, y, _ = pose
     for i, (c, big_r) in enumerate(zip(s.centres, s.model_radii), start=1):
         d = math.dist((x, y), c)
         if d < big_r - TOL:
-            raise _error(s.source, key, f"point ({x:g}, {y:g}) is inside the model circle "
+            raise _error(source, key, f"point ({x:g}, {y:g}) is inside the model circle "
                          f"of obstacles[{i}] (distance {d:.6g} < R {big_r:.6g})")
     xmin, xmax, ymin, ymax = s.bounds
     if not (xmin - TOL <= x <= xmax + TOL and ymin - TOL <= y <= ymax + TOL):
-        raise _error(s.source, key, f"point ({x:g}, {y:g}) is outside the field shrunk "
+        raise _error(source, key, f"point ({x:g}, {y:g}) is outside the field shrunk "
                      f"by the robot radius [{xmin:g}, {xmax:g}] x [{ymin:g}, {ymax:g}]")
 
 
-def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>") -> Scenario:
+PoseOverride = tuple[Mapping[str, Any], str, str]
+"""A pose given apart from the file: ``(table, source, key)``, the table laid out like
+``[start]`` (``x``, ``y``, ``heading_deg``), e.g. ``({...}, "command line", "--start")``."""
+
+
+def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>",
+                       poses: Mapping[str, PoseOverride] | None = None) -> Scenario:
     """A validated :class:`Scenario` from a mapping laid out like a scenario file.
 
-    Units: metres and degrees in; metres and radians in the result.
+    Units: metres and degrees in; metres and radians in the result. ``poses``:
+    ``{"start" | "goal": (table, source, key)}`` replaces the mapping's ``[start]``
+    or ``[goal]`` (which may then be absent) and is checked by the same rules, its
+    problems named ``source: key`` (``command line: --start: point ... is inside the
+    model circle of obstacles[3] ...``).
     """
     if not isinstance(mapping, Mapping):
         raise _error(source, "scenario", f"must be a table, got {type(mapping).__name__}")
-    top = _table(mapping, TOP, source, "")
+    if not mapping:
+        raise _error(source, "file", "is empty (a scenario needs name, robot, start and goal)")
+    poses = dict(poses or {})
+    if set(poses) - {"start", "goal"}:
+        raise ValueError(f"poses: only start and goal can be given, got {sorted(poses)}")
+    top = _table({**mapping, **{k: t for k, (t, _, _) in poses.items()}}, TOP, source, "")
+    given = {k: poses.get(k, (top[k], source, k)) for k in ("start", "goal")}
     name = top["name"]
     if not name.strip():
         raise _error(source, "name", "must be a non-empty string")
     robot = _table(top["robot"], ROBOT, source, "robot")
     r = _positive(robot["radius"], source, "robot.radius")
     rho = _positive(robot["min_turn_radius"], source, "robot.min_turn_radius")
-    start, goal = _pose(top["start"], source, "start"), _pose(top["goal"], source, "goal")
+    start, goal = _pose(*given["start"]), _pose(*given["goal"])
     fld = _field(top["field"], r, source) if "field" in top else None
     centres, radii = _obstacles(top.get("obstacles", ()), r, source)
     ga = dict(top.get("ga", {}))
     validation.settings([validation.file_layer(ga, source, "ga")])  # operators: plugins first
     s = Scenario(name=name, robot_radius=r, min_turn_radius=rho, start=start, goal=goal,
                  centres=centres, radii=radii, field=fld, ga=ga, source=source)
-    _check_pose(s, "start", start)
-    _check_pose(s, "goal", goal)
+    _check_pose(s, start, *given["start"][1:])
+    _check_pose(s, goal, *given["goal"][1:])
     return s
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Load and validate a scenario TOML file (metres and degrees; see module doc)."""
+def load_scenario(path: str | Path,
+                  poses: Mapping[str, PoseOverride] | None = None) -> Scenario:
+    """Load and validate a scenario TOML file (metres and degrees; see module doc);
+    ``poses`` replace its start or goal (:func:`scenario_from_dict`)."""
     source = str(path)
     try:
         text = Path(path).read_bytes().decode("utf-8")
@@ -183,4 +201,4 @@ def load_scenario(path: str | Path) -> Scenario:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise _error(source, "toml", f"syntax error: {e}") from None
-    return scenario_from_dict(data, source)
+    return scenario_from_dict(data, source, poses)

@@ -306,6 +306,38 @@ def load_result(path: str) -> dict[str, Any]:
     return data
 
 
+def result_scenario(path: str, data: dict[str, Any]) -> Scenario:
+    """The scenario a result file (read by :func:`load_result`) was written for."""
+    from .config import scenario_from_dict
+
+    return scenario_from_dict(data["scenario"]["definition"], f"{path}: scenario.definition")
+
+
+def result_path(path: str, data: dict[str, Any], sc: Scenario,
+                run: int | None = None) -> dict[str, Any] | None:
+    """The path a result file holds, in the result files' form (``length``,
+    ``feasible``, ``violations``, ``touched``, ``segments``, ``violations_at``, ...).
+
+    ``run`` None: the file's ``best`` (None if it has none). Else run ``run``'s best
+    path, re-evaluated from its chromosome in ``per_run`` with the file's collision
+    test (a ConfigError naming ``per_run`` if the file has no such run).
+    """
+    if run is None:
+        return data["best"]
+    from hga_jax.model.path import evaluate_path, from_chromosome, legs_from_list
+
+    rows = [r for r in data["per_run"] if r.get("run") == run]
+    if not rows:
+        ids = [r["run"] for r in data["per_run"]]
+        span = f"runs {min(ids)}..{max(ids)}" if ids else "no runs"
+        raise ConfigError(f"{path}: per_run: no run {run} in this file ({span})")
+    collision = data["settings"].get("collision", "full")
+    p = evaluate_path(sc, *from_chromosome(rows[0]["upper"], rows[0]["lower"], sc.n,
+                                           f"{path}: per_run"), collision,
+                      legs_from_list(rows[0].get("legs"), sc.n, f"{path}: per_run"))
+    return {**p.to_dict(), "run": run}
+
+
 def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any:
     """The figure ``hga-jax plot`` draws from the result file ``path``.
 
@@ -313,36 +345,24 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
     of the result's best. ``with_optimum``: overlay the exact optimum (the file's,
     or solved now if the file has none). Violations are marked.
     """
-    from .config import scenario_from_dict
-    from hga_jax.model.path import evaluate_path, from_chromosome, legs_from_list
     from .plots import plot_path
 
     data = load_result(path)
-    sc = scenario_from_dict(data["scenario"]["definition"], f"{path}: scenario.definition")
+    sc = result_scenario(path, data)
     st_keys = data["settings"]
     collision = st_keys.get("collision", "full")
     st = GASettings(**st_keys) if "population" in st_keys else None
+    chosen = result_path(path, data, sc, run)
     if run is None:
-        best = data["best"]
         what = (("free-turn optimum" if st_keys.get("turns") == "free" else "optimum")
-                if st is None else f"best (run {best.get('run')})")
-        if best is None:
-            segs, touched, where, length, viol = [], [], [], None, None
-        else:
-            segs, touched, where = best["segments"], best["touched"], best["violations_at"]
-            length, viol = best["length"], best["violations"]
+                if st is None or chosen is None else f"best (run {chosen.get('run')})")
     else:
-        rows = [r for r in data["per_run"] if r.get("run") == run]
-        if not rows:
-            ids = [r["run"] for r in data["per_run"]]
-            span = f"runs {min(ids)}..{max(ids)}" if ids else "no runs"
-            raise ConfigError(f"{path}: per_run: no run {run} in this file ({span})")
-        p = evaluate_path(sc, *from_chromosome(rows[0]["upper"], rows[0]["lower"], sc.n,
-                                               f"{path}: per_run"), collision,
-                          legs_from_list(rows[0].get("legs"), sc.n, f"{path}: per_run"))
-        segs, touched, where, length, viol = (p.segments, p.touched, p.violations_at,
-                                              p.length, p.violations)
         what = f"run {run}"
+    if chosen is None:
+        segs, touched, where, length, viol = [], [], [], None, None
+    else:
+        segs, touched, where = chosen["segments"], chosen["touched"], chosen["violations_at"]
+        length, viol = chosen["length"], chosen["violations"]
     overlay, note = None, ""
     if with_optimum:
         opt = data["optimum"]

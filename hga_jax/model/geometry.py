@@ -15,7 +15,6 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple
 
-import jax.numpy as jnp
 import numpy as np
 
 
@@ -23,6 +22,8 @@ def xp_of(*arrays: Any):
     """numpy if every argument is a numpy array or a Python/numpy scalar, else jax.numpy."""
     for a in arrays:
         if not isinstance(a, (np.ndarray, np.generic, float, int, bool)):
+            import jax.numpy as jnp  # imported only where jax arrays already are
+
             return jnp
     return np
 

@@ -12,20 +12,27 @@ tables) in what users read: ``upper``, ``violations_at`` and the result files'
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
-import jax
 import numpy as np
 
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from . import free_legs
-from .decode import decode_batch
 from hga_jax.errors import ConfigError
 from .scenario import Scenario
 
-_decode = jax.jit(decode_batch, static_argnames="collision")
+
+@functools.cache
+def _decoder():
+    """The jitted decoder (JAX is imported on the first decoding, not with this module)."""
+    import jax
+
+    from .decode import decode_batch
+
+    return jax.jit(decode_batch, static_argnames="collision")
 TINY = 1e-12  # m: a line this short is rounding (e.g. between coincident circles)
 BLOCK = 64  # float64 decoding always runs on blocks of this many rows
 
@@ -48,13 +55,15 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full", legs=Non
     perm, labels = padded(perm), padded(labels)
     if legs is not None:
         legs = padded(np.asarray(legs, np.int32).reshape(rows, scenario.n + 2))
-    parts = []
+    import jax
+
+    parts, decode = [], _decoder()
     with jax.enable_x64(True):
         sa = scenario.arrays(np.float64)
         if legs is not None:
             sa = sa._replace(free_legs=free_legs.leg_table(scenario))
         for i in range(0, rows + pad, BLOCK):
-            d = _decode(sa, perm[i:i + BLOCK], labels[i:i + BLOCK], collision=collision,
+            d = decode(sa, perm[i:i + BLOCK], labels[i:i + BLOCK], collision=collision,
                         legs=None if legs is None else legs[i:i + BLOCK])
             parts.append(jax.tree.map(np.asarray, d))
     return jax.tree.map(lambda *xs: np.concatenate(xs)[:rows], *parts)
@@ -150,6 +159,8 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
     labels = np.asarray(labels, np.int32).reshape(scenario.n + 2)
     if legs is not None:
         legs = np.asarray(legs, np.int32).reshape(scenario.n + 2)
+    import jax
+
     d = jax.tree.map(lambda a: a[0], decode64(scenario, perm, labels, collision, legs))
     upper, lower = chromosome(perm, labels)
     locate = _Locator(scenario, collision)

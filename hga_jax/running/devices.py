@@ -18,8 +18,6 @@ from __future__ import annotations
 import math
 import os
 
-import jax
-
 from hga_jax.errors import ConfigError
 
 _FLAG = "xla_force_host_platform_device_count"
@@ -69,6 +67,8 @@ def use_cpu_cores(count: int | None = None, *, source: str = "use_cpu_cores") ->
     :class:`~hga_jax.errors.ConfigError` naming ``source`` (e.g. ``"command
     line: --cpu-devices"``).
     """
+    import jax
+
     if count is not None and (isinstance(count, bool) or not isinstance(count, int)
                               or count < 1):
         raise ConfigError(f"{source}: must be an integer >= 1, got {count!r}")

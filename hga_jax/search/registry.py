@@ -96,7 +96,12 @@ def _kind(kind: str) -> dict[str, Operator]:
 
 def names(kind: str) -> tuple[str, ...]:
     """The names settings accept for ``kind``: built-ins first, then registered ones in
-    order of registration (``path_mutation`` starts with ``"none"``)."""
+    order of registration (``path_mutation`` starts with ``"none"``). Reading names
+    imports no operator (so no JAX) until an operator is asked for or registered."""
+    if not _TABLE:
+        if kind not in KINDS:
+            raise ValueError(f"operator kind must be one of {', '.join(KINDS)}, got {kind!r}")
+        return tuple(name for k, name, *_ in BUILTINS if k == kind)
     return tuple(_kind(kind))
 
 
@@ -166,31 +171,40 @@ def isolated() -> Iterator[None]:
             _TABLE[kind].update(table)
 
 
+BUILTINS = (
+    # (kind, name, module of hga_jax.search, function, from_words function, rows(n, s))
+    ("selection", "roulette", "selection", "roulette_pick", "roulette_from_words",
+     lambda n, s: 1),
+    ("selection", "tournament", "selection", "tournament_pick", "tournament_from_words",
+     lambda n, s: s.tournament_size),
+    ("perm_crossover", "cx", "perm_crossover", "cx", None, None),
+    ("perm_crossover", "pmx", "perm_crossover", "pmx", None, None),
+    ("perm_crossover", "ox1", "perm_crossover", "ox1", None, None),
+    ("perm_mutation", "inversion", "perm_mutation", "inversion", None, None),
+    ("perm_mutation", "exchange", "perm_mutation", "exchange", None, None),
+    ("label_crossover", "two_point", "label_ops", "two_point", None, None),
+    ("label_mutation", "redraw", "label_ops", "redraw", "redraw_from_words",
+     lambda n, s: n + 2),
+    ("path_mutation", "none", "path_ops", "keep", None, None),
+    *(("path_mutation", name, "path_ops", name, None, None)
+      for name in ("flip", "drop", "insert", "shift", "repair", "mixed")),
+    ("path_mutation", "guided", "guided", "guided", None, None),
+    ("leg_crossover", "two_point", "leg_ops", "two_point", None, None),
+    ("leg_mutation", "redraw", "leg_ops", "redraw", "redraw_from_words", lambda n, s: n + 2),
+)
+"""The built-in operators, in the order :func:`names` lists them; their modules (and
+JAX) are imported on first use of an operator, not to read their names."""
+_SETTINGS = {("selection", "tournament"): ("tournament_size",)}
+
+
 def _load_builtins() -> None:
-    from hga_jax.search import guided, label_ops, leg_ops, path_ops, perm_crossover
-    from hga_jax.search import perm_mutation
-    from hga_jax.search import selection
+    import importlib
 
-    def add(kind, name, fn, **kw):
-        _TABLE[kind][name] = Operator(kind, name, fn, builtin=True, doc=fn.__doc__ or "", **kw)
-
-    for kind in KINDS:
-        _TABLE[kind] = {}
-    add("selection", "roulette", selection.roulette_pick,
-        from_words=selection.roulette_from_words, rows=lambda n, s: 1)
-    add("selection", "tournament", selection.tournament_pick, settings=("tournament_size",),
-        from_words=selection.tournament_from_words, rows=lambda n, s: s.tournament_size)
-    for name in ("cx", "pmx", "ox1"):
-        add("perm_crossover", name, getattr(perm_crossover, name))
-    for name in ("inversion", "exchange"):
-        add("perm_mutation", name, getattr(perm_mutation, name))
-    add("label_crossover", "two_point", label_ops.two_point)
-    add("label_mutation", "redraw", label_ops.redraw,
-        from_words=label_ops.redraw_from_words, rows=lambda n, s: n + 2)
-    add("path_mutation", "none", path_ops.keep)
-    for name in ("flip", "drop", "insert", "shift", "repair", "mixed"):
-        add("path_mutation", name, getattr(path_ops, name))
-    add("path_mutation", "guided", guided.guided)
-    add("leg_crossover", "two_point", leg_ops.two_point)
-    add("leg_mutation", "redraw", leg_ops.redraw,
-        from_words=leg_ops.redraw_from_words, rows=lambda n, s: n + 2)
+    table: dict[str, dict[str, Operator]] = {kind: {} for kind in KINDS}
+    for kind, name, module, attr, words, rows in BUILTINS:
+        mod = importlib.import_module(f"hga_jax.search.{module}")
+        fn = getattr(mod, attr)
+        extra = {} if words is None else {"from_words": getattr(mod, words), "rows": rows}
+        table[kind][name] = Operator(kind, name, fn, builtin=True, doc=fn.__doc__ or "",
+                                     settings=_SETTINGS.get((kind, name), ()), **extra)
+    _TABLE.update(table)

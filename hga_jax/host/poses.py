@@ -1,0 +1,132 @@
+"""A path as poses: sampled ``(s, x, y, heading, curvature)`` at a chosen spacing.
+
+Host-side numpy in float64 (no JAX). ``segments`` are the segment dicts of the
+result files (docs/model.md), in travel order: lines
+``{"type": "line", "start": [x, y], "end": [x, y]}`` and arcs
+``{"type": "arc", "center": [x, y], "radius": R, "start_angle": a, "sweep": w}``
+with ``w`` signed, positive counter-clockwise (CCW, turning left).
+
+Columns of a pose table (one row per pose, in travel order):
+
+- ``s``: arc length from the start of the path (m);
+- ``x``, ``y``: position (m);
+- ``heading``: direction of travel (rad, counter-clockwise from +x), wrapped into
+  ``(-pi, pi]`` (``numpy.unwrap`` of the column gives a continuous one);
+- ``curvature``: signed (1/m): ``+1/R`` on an arc turning left (CCW), ``-1/R`` on
+  one turning right (CW), 0 on a line. It is the curvature of the piece that
+  starts at the pose (at the last pose, of the piece that ends there), so each
+  row's curvature holds exactly up to the next row.
+
+Rows are at ``s = 0, spacing, 2 spacing, ...``, at every segment boundary and at
+the end ``s = length``; a multiple of ``spacing`` within ``TOL`` of a boundary
+gives way to the boundary, so consecutive rows are at most ``spacing + TOL``
+apart along ``s``.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from .output import write_file
+
+COLUMNS = ("s", "x", "y", "heading", "curvature")
+UNITS = {"s": "m, arc length from the start", "x": "m", "y": "m",
+         "heading": "rad, counter-clockwise from +x, in (-pi, pi]",
+         "curvature": "1/m, signed: positive turning left (counter-clockwise), 0 on lines"}
+TOL = 1e-9  # m: a multiple of the spacing this close to a segment boundary is left out
+
+
+def wrap(angle: Any) -> Any:
+    """Angles (rad) wrapped into ``(-pi, pi]``."""
+    return math.pi - np.mod(math.pi - np.asarray(angle, np.float64), 2.0 * math.pi)
+
+
+def _length(seg: Mapping[str, Any]) -> float:
+    """A segment's length (m)."""
+    if seg["type"] == "arc":
+        return float(seg["radius"]) * abs(float(seg["sweep"]))
+    (x0, y0), (x1, y1) = seg["start"], seg["end"]
+    return math.hypot(float(x1) - float(x0), float(y1) - float(y0))
+
+
+def _poses(seg: Mapping[str, Any], u: np.ndarray) -> np.ndarray:
+    """Rows ``(x, y, heading, curvature)`` at distances ``u`` (m) along one segment."""
+    if seg["type"] == "arc":
+        (cx, cy), r = (float(v) for v in seg["center"]), float(seg["radius"])
+        turn = 1.0 if float(seg["sweep"]) >= 0.0 else -1.0  # +1 CCW (left), -1 CW (right)
+        angle = float(seg["start_angle"]) + turn * u / r
+        return np.stack([cx + r * np.cos(angle), cy + r * np.sin(angle),
+                         wrap(angle + turn * math.pi / 2), np.full_like(u, turn / r)], axis=1)
+    (x0, y0), (x1, y1) = (np.asarray(p, np.float64) for p in (seg["start"], seg["end"]))
+    n = max(_length(seg), 1e-300)
+    dx, dy = (x1 - x0) / n, (y1 - y0) / n
+    return np.stack([x0 + u * dx, y0 + u * dy, np.full_like(u, wrap(math.atan2(dy, dx))),
+                     np.zeros_like(u)], axis=1)
+
+
+def sample(segments: Sequence[Mapping[str, Any]], spacing: float,
+           start: Sequence[float] | None = None) -> np.ndarray:
+    """The pose table ``(k, 5)`` of a path (float64; columns :data:`COLUMNS`).
+
+    ``spacing``: metres between samples along the path (> 0). ``start``: the pose
+    ``(x, y, heading in rad)`` to return, alone at ``s = 0`` with curvature 0, for a
+    path without segments (start equal to goal); such a path without ``start`` is a
+    ValueError.
+    """
+    spacing = float(spacing)
+    if not (math.isfinite(spacing) and spacing > 0.0):
+        raise ValueError(f"spacing must be a number > 0 (m), got {spacing!r}")
+    if not segments:
+        if start is None:
+            raise ValueError("a path without segments has no pose: give its start")
+        x, y, h = (float(v) for v in start)
+        return np.array([[0.0, x, y, float(wrap(h)), 0.0]])
+    lengths = np.array([_length(seg) for seg in segments])
+    bounds = np.concatenate([[0.0], np.cumsum(lengths)])  # boundaries, start and end
+    total = float(bounds[-1])
+    grid = np.arange(int(math.floor(total / spacing)) + 1) * spacing
+    j = np.searchsorted(bounds, grid)  # the boundaries either side of each multiple
+    below, above = bounds[np.maximum(j - 1, 0)], bounds[np.minimum(j, len(bounds) - 1)]
+    near = np.minimum(np.abs(grid - below), np.abs(above - grid)) <= TOL
+    s = np.unique(np.concatenate([grid[(grid < total) & ~near], bounds]))
+    piece = np.searchsorted(bounds[1:-1], s, side="right")  # the piece starting at s
+    table = np.empty((len(s), 5))
+    table[:, 0] = s
+    for i in np.unique(piece):
+        rows = piece == i
+        u = np.clip(s[rows] - bounds[i], 0.0, lengths[i])
+        table[rows, 1:] = _poses(segments[i], u)
+    return table
+
+
+def _rows(table: np.ndarray) -> list[list[float]]:
+    return np.asarray(table, np.float64).reshape(-1, len(COLUMNS)).tolist()
+
+
+def write_csv(path: str, table: np.ndarray) -> None:
+    """Write a pose table as CSV (header :data:`COLUMNS`; numbers as Python writes
+    them, which read back to the same float64), atomically."""
+    def write(fh) -> None:
+        out = csv.writer(fh, lineterminator="\n")
+        out.writerow(COLUMNS)
+        out.writerows(_rows(table))
+
+    write_file(path, write)
+
+
+def write_json(path: str, table: np.ndarray, meta: Mapping[str, Any]) -> None:
+    """Write a pose table as strict JSON, atomically: ``meta``'s keys, then
+    ``columns``, ``units`` and ``poses`` (one ``[s, x, y, heading, curvature]`` list
+    per pose, one pose a line)."""
+    head = {**meta, "columns": list(COLUMNS), "units": UNITS}
+    lines = ",\n".join("  " + json.dumps(r, allow_nan=False) for r in _rows(table))
+
+    def write(fh) -> None:
+        fh.write(json.dumps(head, indent=1, allow_nan=False)[:-2])  # without the closing "\n}"
+        fh.write(',\n "poses": [\n' + lines + "\n ]\n}\n")
+
+    write_file(path, write)
