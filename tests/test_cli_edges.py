@@ -57,7 +57,7 @@ def test_quick_checks_the_whole_grid_before_anything_runs(tmp_path):
     path = _study_file(tmp_path, full_op="ox9")
     with pytest.raises(ConfigError) as e:
         load_study(path, quick=True)
-    assert str(e.value).startswith(f"{path}: configs[1].perm_crossover: must be one of")
+    assert str(e.value).startswith(f"{path}: configs[2].perm_crossover: must be one of")
     assert not os.path.exists(tmp_path / "results")
     assert len(load_study(_study_file(tmp_path), quick=True).configs) == 1
 
@@ -96,3 +96,25 @@ def test_study_help_describes_the_command_and_its_defaults(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "Run or resume a study" in text and "docs/studies.md" in text
     assert "--force" in text and "(default: results/<study name>" in text
+
+
+def test_settings_are_checked_after_every_layer_is_merged(tmp_path, capsys):
+    """A scenario's tournament_size of 80 is fine with --population 100 (flags over the
+    file), and the error without it names both values' sources."""
+    from hga_jax.host.cli import _settings
+    from hga_jax.host.config import load_scenario
+    from hga_jax.search.settings import preset
+
+    text = open(PAPER_SCENE).read() + "\n[ga]\ntournament_size = 80\nselection = \"tournament\"\n"
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    sc = load_scenario(str(path))  # the file alone is read without complaint
+    s = _settings(sc, None, {"population": 100, "tournament_size": 60}, preset("paper"))
+    assert (s.population, s.tournament_size) == (100, 60)
+    s = _settings(sc, None, {"population": 100}, preset("paper"))
+    assert s.tournament_size == 80
+    with pytest.raises(ConfigError) as e:
+        _settings(sc, None, {}, preset("paper"))
+    assert str(e.value) == (f"{path}: ga.tournament_size: must be in 1..population (50, from "
+                            "the default), got 80")
+    assert main(["check", str(path)]) == 2  # check applies the same rule to the file alone

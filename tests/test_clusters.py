@@ -82,8 +82,8 @@ def test_study_with_a_clusters_family_parses(tmp_path):
 
 
 @pytest.mark.parametrize("obstacles, extra, key", [
-    ("[9]", "density = 1.4\n", "families[0].density"),
-    ("[2]", "", "families[0].obstacles"),
+    ("[9]", "density = 1.4\n", "families[1].density"),
+    ("[2]", "", "families[1].obstacles"),
 ])
 def test_bad_clusters_family_names_the_key(tmp_path, obstacles, extra, key):
     p = tmp_path / "study.toml"

@@ -191,7 +191,7 @@ def test_a_study_plugin_that_fails_names_the_study_and_the_file(tmp_path, capsys
     cfg.write_text(STUDY.replace("{scene}", ROBOCUP))
     assert main(["study", str(cfg), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err == (f"hga-jax: error: {cfg}: plugins[0]: cannot import "
+    assert err == (f"hga-jax: error: {cfg}: plugins[1]: cannot import "
                    f"{tmp_path / 'ops' / 'example_ops.py'}: ModuleNotFoundError: No module "
                    "named 'no_such_module_of_hga'\n")
     assert not (tmp_path / "out").exists()

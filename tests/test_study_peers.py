@@ -179,19 +179,19 @@ def test_a_peer_whose_package_is_missing_is_skipped_in_one_line(tmp_path, monkey
 
 
 @pytest.mark.parametrize("table, key, words", [
-    ('solver = "ompl"\ntime_limit = 1.0', "configs[0].planner", "missing key"),
-    ('solver = "ompl"\nplanner = "RRT"\ntime_limit = 1.0', "configs[0].planner", "must be one of"),
-    ('solver = "ompl"\nplanner = "BITstar"\ntime_limit = -1', "configs[0].time_limit", "seconds"),
+    ('solver = "ompl"\ntime_limit = 1.0', "configs[1].planner", "missing key"),
+    ('solver = "ompl"\nplanner = "RRT"\ntime_limit = 1.0', "configs[1].planner", "must be one of"),
+    ('solver = "ompl"\nplanner = "BITstar"\ntime_limit = -1', "configs[1].time_limit", "seconds"),
     ('solver = "ompl"\nplanner = "BITstar"\ntime_limit = 1\npopulation = 9',
-     "configs[0].population", "takes no GA settings"),
-    ('solver = "deap"\nselection = "tournament"', "configs[0].selection", "paper's operators"),
-    ('solver = "random"', "configs[0].evaluations", "missing key"),
-    ('solver = "random"\nevaluations = 10\ngenerations = 3', "configs[0].generations",
+     "configs[1].population", "takes no GA settings"),
+    ('solver = "deap"\nselection = "tournament"', "configs[1].selection", "paper's operators"),
+    ('solver = "random"', "configs[1].evaluations", "missing key"),
+    ('solver = "random"\nevaluations = 10\ngenerations = 3', "configs[1].generations",
      "evaluations instead"),
-    ('solver = "exact"\nbatch = false', "configs[0].batch", "only for solver hga"),
-    ('solver = "simplex"', "configs[0].solver", "must be one of hga, random, exact"),
-    ('preset = "fast"', "configs[0].preset", "must be one of"),
-    ('runs = 0', "configs[0].runs", ""),
+    ('solver = "exact"\nbatch = false', "configs[1].batch", "only for solver hga"),
+    ('solver = "simplex"', "configs[1].solver", "must be one of hga, random, exact"),
+    ('preset = "fast"', "configs[1].preset", "must be one of"),
+    ('runs = 0', "configs[1].runs", ""),
 ])
 def test_bad_solver_configurations_are_one_line_errors(tmp_path, table, key, words):
     path = tmp_path / "bad.toml"

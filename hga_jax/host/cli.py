@@ -26,7 +26,7 @@ same line.
 Exit status: 0 done (also when standard output was closed early, e.g. by
 ``| head``); 1 an input/output error (standard output full, a file that cannot
 be written); 2 bad input; 3 an internal error (a bug: please report it); 130
-interrupted (Ctrl-C; nothing written).
+interrupted (Ctrl-C or SIGTERM; a run keeps its finished batches for ``--resume``).
 """
 from __future__ import annotations
 
@@ -151,6 +151,10 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--chunk", type=int, metavar="N", help="runs per compiled batch (default: "
                      "about 50,000 chromosomes per batch, fewer if memory is short)")
     devices.add_option(run)
+    run.add_argument("--resume", action="store_true",
+                     help="finish an interrupted run in its output folder: the same command "
+                     "with --resume searches the runs it had not finished (the results are "
+                     "those of an uninterrupted run)")
     run.add_argument("--no-exact", action="store_true",
                      help="skip the exact optimum and the gaps to it")
     _output_args(run, "results/<scenario file name>")
@@ -290,7 +294,7 @@ def _plugins(args) -> list[str]:
     loaded = validation.load_plugins(args.plugin, "command line", "--plugin")
     if getattr(args, "ga", None):
         ga_plugins = _ga_file(args.ga)[1]
-        loaded += validation.load_plugins(ga_plugins, args.ga, lambda i: f"plugins[{i}]")
+        loaded += validation.load_plugins(ga_plugins, args.ga, lambda i: f"plugins[{i + 1}]")
     return loaded
 
 
@@ -374,23 +378,61 @@ def _cmd_run(args) -> int:
 
     out = args.out or _default_out(args.scenario)
 
+    if args.resume and joined:
+        raise ConfigError("command line: --resume: not with --distributed (resume on one "
+                          "process, or run the missing runs with --first-run)")
+    if args.resume and args.force:
+        raise ConfigError("command line: --resume: not with --force (--force starts over)")
+    prior = None
+
     def check() -> None:  # the job must fit (each process holds the whole result)
+        nonlocal prior
         budget.plan(scenario.n, settings, args.runs, args.chunk, jax.local_device_count())
-        if jax.process_index() == 0:  # the process that writes
-            check_folder(out, args.force)
+        if jax.process_index() != 0:  # the process that writes
+            return
+        if args.resume:
+            prior = report.load_partial(out, scenario, settings, args.seed, args.first_run,
+                                        args.runs)
+            return
+        part = None if args.force else report.partial_in(out)
+        if part is not None:
+            raise ConfigError(f"{out}: output folder: holds an interrupted run ({part['runs_done']:,} "
+                              f"of {part['runs_requested']:,} runs): add --resume to finish "
+                              "it, or --force to start over")
+        check_folder(out, args.force)
 
     distributed.together(check) if joined else check()
     _cache(args)
-    from hga_jax.running.runner import run_many
+    from hga_jax.running.runner import joined as join_runs, resumed, run_many
 
-    res = run_many(scenario, settings, seed=args.seed, runs=args.runs, first_run=args.first_run,
-                   chunk=args.chunk, exact=not args.no_exact, progress=not args.quiet,
-                   preset=args.preset)
+    done = 0 if prior is None else int(prior[0]["partial"]["runs_done"])
+    try:
+        res = run_many(scenario, settings, seed=args.seed, runs=args.runs - done,
+                       first_run=args.first_run + done, chunk=args.chunk,
+                       exact=not args.no_exact, progress=not args.quiet, preset=args.preset)
+    except Interrupted as e:
+        part = getattr(e, "partial", None)
+        if part is None and prior is not None:
+            raise Interrupted(f"{e}; the partial result written in {out} is as it was") from None
+        if part is None or joined:
+            raise
+        if prior is not None:
+            part = join_runs([resumed(scenario, settings, args.seed, args.first_run, prior[1],
+                                      part), part])
+        part.plugins = tuple(plugins)
+        with _ctrl_c_deferred():
+            report.write_partial(part, out, args.runs, force=True)
+        raise Interrupted(f"{e}; the {len(part.length):,} finished runs of {args.runs:,} are "
+                          f"written in {out} (the same command with --resume finishes the "
+                          "job)") from None
+    if prior is not None:
+        res = join_runs([resumed(scenario, settings, args.seed, args.first_run, prior[1], res),
+                         res])
     res.plugins = tuple(plugins)
     if jax.process_index() != 0:  # process 0 writes and prints the result
         return 0
     with _ctrl_c_deferred():
-        written = report.write_run(res, out, plot=args.plot, force=args.force)
+        written = report.write_run(res, out, plot=args.plot, force=args.force or args.resume)
     if args.json:
         _emit(json.dumps(report.run_json(res, written), allow_nan=False))
     else:
@@ -573,9 +615,25 @@ def _use_file_backend() -> None:
     matplotlib.use("Agg")
 
 
+def _terminated(signum, frame):  # SIGTERM stops a command as Ctrl-C does
+    raise KeyboardInterrupt("terminated")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     _use_file_backend()
     args = _parser().parse_args(argv)
+    try:
+        before = signal.signal(signal.SIGTERM, _terminated)
+    except ValueError:  # not the main thread: leave signals alone
+        before = None
+    try:
+        return _main(args)
+    finally:
+        if before is not None:
+            signal.signal(signal.SIGTERM, before)
+
+
+def _main(args) -> int:
     try:
         return COMMANDS[args.command](args)
     except ConfigError as e:
@@ -586,7 +644,7 @@ def main(argv: Sequence[str] | None = None) -> int:
               flush=True)
         return 3
     except KeyboardInterrupt as e:
-        text = str(e) if isinstance(e, Interrupted) else "interrupted"
+        text = str(e) if isinstance(e, Interrupted) or str(e) == "terminated" else "interrupted"
         tail = "" if "written" in text else "; nothing written"
         print(f"hga-jax: {text}{tail}", file=sys.stderr, flush=True)
         return 130

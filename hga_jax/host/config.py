@@ -30,6 +30,7 @@ import numpy as np
 
 from hga_jax.model.scenario import Field, Scenario, scenario_to_dict  # noqa: F401 (the loader's inverse)
 from hga_jax import validation
+from hga_jax.search.settings import GASettings
 
 TOL = 1e-9  # metres: a point counts as inside a circle only by more than this
 
@@ -178,7 +179,8 @@ def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>",
     fld = _field(top["field"], r, source) if "field" in top else None
     centres, radii = _obstacles(top.get("obstacles", ()), r, source)
     ga = dict(top.get("ga", {}))
-    validation.settings([validation.file_layer(ga, source, "ga")])  # operators: plugins first
+    # Keys and types now; values once every layer (preset, file, --ga, flags) is merged.
+    GASettings.check_layer(validation.file_layer(ga, source, "ga"))
     s = Scenario(name=name, robot_radius=r, min_turn_radius=rho, start=start, goal=goal,
                  centres=centres, radii=radii, field=fld, ga=ga, source=source)
     _check_pose(s, start, *given["start"][1:])

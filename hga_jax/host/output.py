@@ -3,7 +3,8 @@
 A result folder holds the files of one result only: ``result.json`` and, from
 ``run``, ``history.csv``; the plots ``path.png`` and ``convergence.png``; and the
 redrawn paths ``path_run<K>.png`` of ``hga-jax plot`` and the poses
-``poses.csv``, ``poses.json`` (``poses_run<K>.*``) of ``hga-jax export``, which
+``poses.csv``, ``poses.json`` (``poses_run<K>.*``) of ``hga-jax export``, and the
+``partial.npz`` of an interrupted run (its finished runs, for ``--resume``), which
 belong to the result beside them. Writing a result into a
 folder that holds any of these needs ``force``; the files of the new result
 replace them and the ones it does not write are removed, so a folder never
@@ -24,7 +25,7 @@ from typing import Any, Callable, Mapping
 
 from hga_jax.errors import ConfigError
 
-RESULT_FILES = ("result.json", "history.csv", "path.png", "convergence.png")
+RESULT_FILES = ("result.json", "history.csv", "path.png", "convergence.png", "partial.npz")
 _REDRAWN = re.compile(r"path_run\d+\.png|poses(_run\d+)?\.(csv|json)")  # plot's, export's
 
 

@@ -8,7 +8,10 @@ decimals; counts have thousands separators (docs/model.md).
 """
 from __future__ import annotations
 
+import dataclasses
+import json
 import math
+import os
 from dataclasses import asdict
 from typing import Any
 
@@ -241,6 +244,69 @@ def write_run(res: RunsResult, out: str, plot: bool = False, force: bool = False
     if plot:
         files.update({k: (figure_writer(f), True) for k, f in run_figures(res).items()})
     return write_result(out, files, force)
+
+
+PARTIAL = "partial.npz"
+"""The finished runs of an interrupted ``run``, beside its partial result.json."""
+_ARRAYS = ("perm", "labels", "legs", "generation", "length", "violations")
+
+
+def write_partial(res: RunsResult, out: str, requested: int, force: bool = False) -> list[str]:
+    """Write the finished runs of an interrupted job: a result.json that says it is
+    partial (``partial``: runs done and requested, first run, seed) and ``partial.npz``
+    with every finished run's arrays, which ``hga-jax run ... --resume`` continues from."""
+    import io
+
+    doc = res.to_dict()
+    doc["partial"] = {"runs_done": int(len(res.length)), "runs_requested": int(requested),
+                      "first_run": int(res.run_ids[0]), "seed": res.seed}
+    arrays = {k: getattr(res, k) for k in _ARRAYS if getattr(res, k) is not None}
+    arrays.update({f"history.{k}": v for k, v in res.history.items()})
+    arrays.update(compile_s=np.float64(res.compile_s), search_s=np.float64(res.search_s))
+
+    def npz(fh):
+        buf = io.BytesIO()
+        np.savez(buf, **arrays)
+        fh.write(buf.getvalue())
+
+    return write_result(out, {"result.json": (json_writer(doc), False), PARTIAL: (npz, True)},
+                        force)
+
+
+def partial_in(out: str) -> dict[str, Any] | None:
+    """The ``partial`` entry of the result in ``out`` if that result is partial, else None."""
+    if not os.path.exists(os.path.join(out, PARTIAL)):
+        return None
+    try:
+        return load_result(os.path.join(out, "result.json")).get("partial")
+    except ConfigError:
+        return None
+
+
+def load_partial(out: str, scenario: Scenario, settings: Any, seed: int, first_run: int,
+                 runs: int) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """The partial result in ``out`` and its arrays, checked to be the same job (scenario,
+    settings, seed, runs); a ConfigError naming what differs otherwise."""
+    where = os.path.join(out, "result.json")
+    part = partial_in(out)
+    if part is None:
+        raise ConfigError(f"{out}: --resume: no partial result there to resume (an interrupted "
+                          "run leaves result.json and partial.npz)")
+    doc = load_result(where)
+    fresh = json.loads(json.dumps(result_document(scenario, {
+        "settings": dataclasses.asdict(settings.for_obstacles(scenario.n))})))
+    same = {"scenario": doc["scenario"]["definition"] == fresh["scenario"]["definition"],
+            "settings": doc["settings"] == fresh["settings"], "seed": part["seed"] == seed,
+            "first run": part["first_run"] == first_run,
+            "runs": part["runs_requested"] == runs}
+    for what, ok in same.items():
+        if not ok:
+            raise ConfigError(f"{where}: --resume: the partial result was not made by this "
+                              f"command (its {what} differs); use the interrupted command "
+                              "with --resume, or --force to start over")
+    with np.load(os.path.join(out, PARTIAL)) as z:
+        arrays = {k: z[k] for k in z.files}
+    return doc, arrays
 
 
 def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:

@@ -143,7 +143,13 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     validation.run_range(seed, runs, first_run, chunk, "run_many")
     procs, me = jax.process_count(), jax.process_index()
     if procs == 1:
-        found = _search(scenario, settings, seed, first_run, runs, chunk, progress)
+        try:
+            found = _search(scenario, settings, seed, first_run, runs, chunk, progress)
+        except Interrupted as e:  # the batches that finished, as a result of their own
+            if getattr(e, "found", None) is not None:
+                e.partial = _result(scenario, settings, seed, first_run, e.found, exact, turns,
+                                    preset, budget_rule)
+            raise
     else:
         from hga_jax.running import distributed
 
@@ -156,7 +162,14 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
                   f"{first_run:,}..{first_run + runs - 1:,}", file=sys.stderr, flush=True)
         found = _search(scenario, settings, seed, start, size, chunk, progress and me == 0)
         found = _gathered(found, runs)
+    return _result(scenario, settings, seed, first_run, found, exact, turns, preset, budget_rule)
+
+
+def _result(scenario: Scenario, settings: GASettings, seed: int, first_run: int, found,
+            exact: bool, turns: str, preset: str | None, budget_rule) -> RunsResult:
+    """The :class:`RunsResult` of searched runs: the best run's path in float64, the optimum."""
     t0 = time.perf_counter()
+    runs = len(found.length)
     # The best run: the shortest feasible path if any run has one, else the fittest.
     length, violations = found.length, found.violations
     score = fitness_of(length, violations, scenario.delta)
@@ -177,6 +190,37 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         evaluations=runs * settings.population * (settings.generations + 1),
         preset=preset, devices=jax.device_count(), budget=budget_rule,
     )
+
+
+def resumed(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
+            arrays: dict[str, np.ndarray], like: RunsResult) -> RunsResult:
+    """The result of runs kept from an interrupted job (the arrays of
+    :func:`hga_jax.host.report.write_partial`), with ``like``'s optimum and options."""
+    history = {k[len("history."):]: v for k, v in arrays.items() if k.startswith("history.")}
+    found = _Found(arrays["perm"], arrays["labels"], arrays["generation"], arrays["length"],
+                   arrays["violations"], history, float(arrays["compile_s"]),
+                   float(arrays["search_s"]), 0.0, arrays.get("legs"))
+    res = _result(scenario, like.settings, seed, first_run, found, False, "tight-rope",
+                  like.preset, like.budget)
+    res.optimum, res.devices = like.optimum, like.devices
+    return res
+
+
+def joined(parts: list[RunsResult]) -> RunsResult:
+    """Results of consecutive run ranges of one job (the same scenario, settings and seed)
+    as the one result of the whole range: the same runs, best and figures as if they had
+    been searched at once (times add up)."""
+    first = parts[0]
+    cat = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
+    found = _Found(cat("perm"), cat("labels"), cat("generation"), cat("length"),
+                   cat("violations"),
+                   {k: np.concatenate([p.history[k] for p in parts], axis=1) for k in first.history},
+                   sum(p.compile_s for p in parts), sum(p.search_s for p in parts),
+                   sum(p.finish_s for p in parts), None if first.legs is None else cat("legs"))
+    res = _result(first.scenario, first.settings, first.seed, int(first.run_ids[0]), found,
+                  False, "tight-rope", first.preset, first.budget)
+    res.optimum, res.devices, res.plugins = first.optimum, first.devices, first.plugins
+    return res
 
 
 class _Found(NamedTuple):
@@ -250,12 +294,23 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                 bests.append(jax.tree.map(lambda a: np.asarray(a)[:real], state.best))
                 search_s += time.perf_counter() - t0
     except KeyboardInterrupt:
-        raise Interrupted("interrupted while compiling" if compiling else
-                          f"interrupted in batch {b + 1} of {cut.batches} after {done} of "
-                          f"{gens + 1} generations") from None
+        e = Interrupted("interrupted while compiling" if compiling else
+                        f"interrupted in batch {b + 1} of {cut.batches} after {done} of "
+                        f"{gens + 1} generations")
+        if bests:  # the batches that finished are kept (run_many makes them a result)
+            kept = sum(len(x.perm) for x in bests)
+            e.found = _finished(scenario, settings, bests,
+                                {k: v[:, :kept] for k, v in hist.items()}, compile_s, search_s)
+        raise e from None
     finally:
         if bar is not None:
             bar.close()
+    return _finished(scenario, settings, bests, hist, compile_s, search_s)
+
+
+def _finished(scenario: Scenario, settings: GASettings, bests, hist, compile_s: float,
+              search_s: float) -> "_Found":
+    """The finished batches' best chromosomes, re-evaluated in float64."""
     best = jax.tree.map(lambda *xs: np.concatenate(xs), *bests)
     t0 = time.perf_counter()
     legs = None if best.legs is None else np.asarray(best.legs, np.int32)

@@ -213,6 +213,24 @@ class GASettings:
         the result is validated once, so an error names the source of every value
         it involves.
         """
+        values, origins = cls._merged(layers, base)
+        obj = cls.__new__(cls)
+        for k, v in values.items():
+            object.__setattr__(obj, k, v)
+        obj.validate(layers[-1][1] if layers else "<settings>", "ga", origins)
+        return obj
+
+    @classmethod
+    def check_layer(cls, layer: tuple[Mapping[str, Any], str, Callable[[str], str]]) -> None:
+        """Check one layer's keys and value types alone (a scenario's ``[ga]`` when the
+        file is read); its values are checked against each other, and against the other
+        layers, once all layers are merged (:meth:`layered`)."""
+        cls._merged([layer], None)
+
+    @classmethod
+    def _merged(cls, layers, base) -> tuple[dict[str, Any], dict[str, str]]:
+        """The values of ``layers`` over ``base``, each key and type checked, and where
+        each value came from."""
         names = {f.name: f for f in dataclasses.fields(cls)}
         values = dataclasses.asdict(base or cls())
         origins: dict[str, str] = {}
@@ -229,11 +247,7 @@ class GASettings:
                         f"{source}: {name(key)}: must be {type(default).__name__}, got {v!r}")
                 values[key] = v
                 origins[key] = f"{source}: {name(key)}"
-        obj = cls.__new__(cls)
-        for k, v in values.items():
-            object.__setattr__(obj, k, v)
-        obj.validate(layers[-1][1] if layers else "<settings>", "ga", origins)
-        return obj
+        return values, origins
 
     def replace(self, source: str = "<settings>", **changes: Any) -> "GASettings":
         """A copy with ``changes`` applied (None values ignored), validated."""

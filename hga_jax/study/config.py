@@ -152,7 +152,7 @@ _strings = validation.strings
 
 
 def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
-    where = f"families[{i}]"
+    where = f"families[{i + 1}]"  # counted from 1, as obstacles are
     t = _keys(t, FAMILY, source, where)
     for k in ("name", "kind", "obstacles"):
         if k not in t:
@@ -187,7 +187,7 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
 def _grid(t: Any, i: int, source: str, base, key: str) -> list[Config]:
     """The configurations of one ``[[configs]]`` table; ``base(preset)`` gives the
     settings its points are layered on."""
-    where = f"{key}[{i}]"
+    where = f"{key}[{i + 1}]"  # counted from 1
     ga_keys = {f.name for f in dataclasses.fields(GASettings)}
     t = dict(_keys(t, ga_keys | PEER_KEYS | {"label"}, source, where))
     label = t.pop("label", None)
@@ -316,7 +316,7 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
         raise _err(source, "families", "two families share a name")
     if not scen and not families:
         raise _err(source, "scenarios", "a study needs scenarios or families")
-    validation.load_plugins(plugins, source, lambda i: f"plugins[{i}]")
+    validation.load_plugins(plugins, source, lambda i: f"plugins[{i + 1}]")
     ga = _keys(data.get("ga", {}), {f.name for f in dataclasses.fields(GASettings)}, source, "ga")
     layers = [validation.file_layer(ga, source, "ga")]
     if "ga" in q:
@@ -337,7 +337,7 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
         for c in _grid(t, i, source, base, key):
             if all(c.identity() != o.identity() for o in configs):
                 if any(c.label == o.label for o in configs):
-                    raise _err(source, f"{key}[{i}]", f"two configurations named {c.label!r}")
+                    raise _err(source, f"{key}[{i + 1}]", f"two configurations named {c.label!r}")
                 configs.append(c)
     yardstick = data.get("yardstick", "tight-rope")
     for c in configs:  # free turns need the full collision test in every configuration

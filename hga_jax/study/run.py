@@ -233,7 +233,8 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
         rows = summary.summarize(tab, labels)
         table.write_csv(j("summary.csv"), pd.DataFrame(rows), missing="nan")
         table.write_parquet(j("summary.parquet"), pd.DataFrame(rows))
-        md = summary.markdown(rows, f"Study {study.name}: {len(tab)} runs", skip, note)
+        md = summary.markdown(rows, f"Study {study.name}: {len(tab)} runs", skip, note,
+                              summary.setup(study, scenes, docs))
         if study.yardstick == "free":
             md = md.replace("\n", "\n\nGaps and hits are measured against the free-turn "
                             "optimum (turns in free space too), not the tight-rope one. "

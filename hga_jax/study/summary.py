@@ -168,10 +168,47 @@ NOTES = (
     "evaluations or seconds; solvers that count no evaluations show \"-\".")
 
 
+def setup(study, scenes, docs: list[dict[str, Any]]) -> str:
+    """What was run, in words: seeds, runs, scenes per family, each configuration's budget."""
+    fams: dict[str, dict[int, int]] = {}
+    for sc in scenes:
+        fams.setdefault(sc.family, {}).setdefault(sc.scenario.n, 0)
+        fams[sc.family][sc.scenario.n] += 1
+    fam = "; ".join(f"{f}: " + ", ".join(f"{k} with {n} obstacles" for n, k in sorted(c.items()))
+                    for f, c in fams.items())
+    lines = [f"Seed {study.seed}: run k of every cell is run k of this seed. Scenes "
+             f"({len(scenes)}): {fam}. Gaps are to the "
+             f"{'free-turn' if study.yardstick == 'free' else 'tight-rope'} optimum.", "",
+             "Budget per run of each configuration:", ""]
+    for c in study.configs:
+        mine = [d for d in docs if d["config"] == c.label]
+        runs = study.runs_of(c)
+        if c.solver == "ompl":
+            what = f"OMPL {c.planner}, {c.time_limit:g} s"
+        elif c.solver == "exact":
+            what = "the exact solver, once per scene"
+        else:
+            evals = sorted({d["evaluations_per_run"] for d in mine if d.get(
+                "evaluations_per_run") is not None})
+            span = (f"{evals[0]:,.0f}" if len(evals) == 1 else
+                    f"{evals[0]:,.0f} to {evals[-1]:,.0f} (growing with the obstacle count)"
+                    if evals else "not run yet")
+            s = c.settings
+            what = (f"{'DEAP, ' if c.solver == 'deap' else ''}population {s.population}, "
+                    f"{'0 generations (random search)' if c.solver == 'random' else f'{s.generations} generations'}"
+                    f"{f' + {s.generations_per_obstacle} per obstacle beyond 9' if s.generations_per_obstacle and c.solver == 'hga' else ''}: "
+                    f"{'about ' if c.solver == 'deap' else ''}{span} evaluations"
+                    f"{' (only changed individuals are evaluated again)' if c.solver == 'deap' else ''}")
+        lines.append(f"- `{c.label}`: {what}; {runs} run{'s' if runs != 1 else ''} per scene"
+                     + ("" if c.batch else ", each run alone"))
+    return "\n".join(lines)
+
+
 def markdown(rows: list[dict[str, Any]], title: str, skipped: dict[str, str] | None = None,
-             note: str | None = None) -> str:
-    """Markdown text: the title, notes (skipped configurations too), one table per group."""
-    out = [f"# {title}", "", NOTES, ""]
+             note: str | None = None, preamble: str = "") -> str:
+    """Markdown text: the title, what was run (``preamble``), notes (skipped configurations
+    too), one table per group."""
+    out = [f"# {title}", ""] + ([preamble, ""] if preamble else []) + [NOTES, ""]
     for label, why in (skipped or {}).items():
         out += [f"Skipped `{label}`: {why}.", ""]
     if note:
