@@ -9,6 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hga_jax.running.runner import settings_for
+
 from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.errors import ConfigError
 from hga_jax.model.scenario import Scenario
@@ -263,7 +265,10 @@ BAD = {
 def test_bad_input(tmp_path: Path, text: str, key: str) -> None:
     path = write(tmp_path, text, "bad_case.toml")
     with pytest.raises(ConfigError) as info:
-        load_scenario(path)
+        sc = load_scenario(path)
+        # A [ga] value is checked with every layer of settings merged (flags may change
+        # it): here, the file's table over the defaults, as a run without flags does.
+        settings_for(sc)
     msg = str(info.value)
     assert msg.startswith(f"{path}: ")
     assert key in msg

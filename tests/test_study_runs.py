@@ -305,6 +305,7 @@ def test_baselines_quick_compares_every_solver(tmp_path, capsys):
     assert "(0 run now" in capsys.readouterr().out and "run now" in first
 
 
+@pytest.mark.slow  # 30 s; the recommended preset's hit rates are held by test_recommended.py
 def test_recommended_study_quick_beats_the_paper(tmp_path):
     assert _study("recommended", "--quick", "--out", str(tmp_path), "--quiet") == 0
     rows = _csv(tmp_path / "runs.csv")

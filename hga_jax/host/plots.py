@@ -224,31 +224,50 @@ def _band(ax: Axes, gens: np.ndarray, data: np.ndarray, colour: str, label: str,
     ax.plot(gens, med, color=colour, lw=1.8, label=label, gid=gid + "_median")
 
 
+def headroom(ax: Any, y: float, share: float = 0.08) -> None:
+    """Keep a horizontal line at ``y`` off the frame: widen the y range to leave
+    ``share`` of it on the far side of ``y``."""
+    lo, hi = ax.get_ylim()
+    span = (hi - lo) or abs(y) or 1.0
+    if y >= hi - 0.02 * span:
+        ax.set_ylim(lo, y + share * span)
+    if y <= lo + 0.02 * span:
+        ax.set_ylim(y - share * span, ax.get_ylim()[1])
+
+
 def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
                      optimum_fitness: float | None = None, best_length: np.ndarray | None = None,
                      optimum_length: float | None = None, title: str | None = None,
-                     length_label: str = "best path length (m)") -> Figure:
+                     length_label: str = "best path length (m)",
+                     reached: dict[str, np.ndarray] | None = None,
+                     population: int | None = None) -> Figure:
     """Fitness over generation (paper Fig. 5) from arrays shaped (G+1, runs).
 
     Row ``g`` is generation ``g`` (0 = initial population). Draws the median
     over runs and the interquartile band of the best and the mean fitness, the
     optimum's fitness as a line when given, and, when ``best_length`` is given,
     a second panel of the best-so-far path length against the optimum length
-    (``length_label`` names its axis).
+    (``length_label`` names its axis). ``reached`` (label -> per run the first
+    generation it got there, -1 never) adds a panel of the share of runs there by
+    each number of evaluations (``population`` per generation), on a log axis: it
+    still tells a story when every run finds the optimum in generation 0.
     """
     best = np.asarray(best_fitness, float).reshape(len(best_fitness), -1)
     mean = np.asarray(mean_fitness, float).reshape(len(mean_fitness), -1)
     runs, gens = best.shape[1], np.arange(best.shape[0])
     what = "median, IQR over %d runs" % runs if runs > 1 else "1 run"
+    count = 1 + (best_length is not None) + (reached is not None)
+    fig = Figure(figsize=(3.6 + 3.4 * (count - 1) if count > 1 else 6.0, 3.8),
+                 layout="constrained")
+    axes = fig.subplots(1, count, squeeze=False)[0]
     two = best_length is not None
-    fig = Figure(figsize=(10.0 if two else 6.0, 4.0), layout="constrained")
-    axes = fig.subplots(1, 2 if two else 1, squeeze=False)[0]
     ax = axes[0]
     _band(ax, gens, best, C_ARC, f"best fitness ({what})", "best")
     _band(ax, gens, mean, C_LINE, f"mean fitness ({what})", "mean")
     if optimum_fitness is not None:
         ax.axhline(float(optimum_fitness), color="black", ls="--", lw=1.0,
                    label="optimum", gid="optimum")
+        headroom(ax, float(optimum_fitness))
     ax.set_xlabel("generation")
     ax.set_ylabel("fitness  10000 / (Dist$_m$ + 1)")
     ax.set_xlim(gens[0], max(gens[-1], 1))
@@ -261,13 +280,30 @@ def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
         if optimum_length is not None:
             ax2.axhline(float(optimum_length), color="black", ls="--", lw=1.0,
                         label="optimum length", gid="optimum_length")
+            headroom(ax2, float(optimum_length))
         ax2.set_xlabel("generation")
         ax2.set_ylabel(length_label)
         ax2.set_xlim(gens[0], max(gens[-1], 1))
         ax2.grid(alpha=0.3)
         ax2.legend(fontsize=8, loc="best")
+    if reached is not None:
+        ax3 = axes[-1]
+        pop = population or 1
+        evals = pop * (gens + 1)
+        for (label, first), colour, ls in zip(reached.items(), (C_LINE, C_ARC, "tab:green"),
+                                              ("-", "--", ":")):
+            first = np.asarray(first)
+            share = [100 * np.mean((first >= 0) & (first <= g)) for g in gens]
+            ax3.step(evals, share, where="post", color=colour, ls=ls, label=label,
+                     gid=f"reached_{label}")
+        ax3.set_xscale("log")
+        ax3.set_ylim(-3, 103)
+        ax3.set_xlabel(f"evaluations ({pop} per generation)")
+        ax3.set_ylabel("runs there (%)")
+        ax3.grid(alpha=0.3)
+        ax3.legend(fontsize=8, loc="lower right")
     if title is not None:
-        fig.suptitle(title)
+        fig.suptitle(title, fontsize=9)
     return fig
 
 

@@ -227,7 +227,10 @@ def run_figures(res: RunsResult) -> dict[str, Any]:
         title=(f"{res.scenario.name}: {count(len(res.length), 'run')}, median and quartiles; "
                f"collision {st.collision}; {st.selection}, {st.perm_crossover}/"
                f"{st.perm_mutation}"),
-        length_label="best-so-far Dist$_m$ = length + penalty (m)")
+        length_label="best-so-far Dist$_m$ = length + penalty (m)",
+        reached=None if opt is None else {"within 1%": res.first_generation_within(0.01),
+                                          "optimum": res.generation_hit},
+        population=st.population)
     return {"path.png": path, "convergence.png": conv}
 
 

@@ -22,7 +22,7 @@ import pandas as pd
 from hga_jax.host.config import load_scenario
 from hga_jax.model.fitness import fitness_of
 from hga_jax.model.path import evaluate_path, from_chromosome, legs_from_list
-from hga_jax.host.plots import plot_path
+from hga_jax.host.plots import headroom, plot_path
 from hga_jax.host.output import write_file
 from . import stats
 from .figures import save, subplots
@@ -73,6 +73,7 @@ def paper(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     a2.set_title(f"{doc['runs']} runs", fontsize=9)
     for ax in (a1, a2):
         ax.axhline(opt_fit, color="k", lw=0.8, label="exact optimum")
+        headroom(ax, opt_fit)
         ax.set_xlabel("generation")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="lower right")

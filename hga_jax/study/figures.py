@@ -64,53 +64,64 @@ def panels(count: int, height: float = 2.4):
 
 
 def hit_rates(rows: list[dict[str, Any]], path: str) -> str:
+    """Hit rate with its 95% Wilson interval, one row per configuration and one marker
+    colour per group (family and size), in one panel."""
     groups = list(dict.fromkeys(r["group"] for r in rows))
     configs = list(dict.fromkeys(r["config"] for r in rows))
-    fig, axes = subplots(1, len(groups), figsize=(4 + 3 * len(groups), 1 + 0.35 * len(configs)),
-                         sharey=True, squeeze=False)
-    for ax, group in zip(axes[0], groups):
+    fig, ax = subplots(figsize=(7.2, 1.3 + 0.3 * len(configs) * max(1, len(groups)) ** 0.5),
+                       layout="constrained")
+    step = 0.7 / max(len(groups), 1)
+    for k, (group, colour) in enumerate(zip(groups, _colours(len(groups)))):
         rs = {r["config"]: r for r in rows if r["group"] == group}
-        y = np.arange(len(configs))
+        y = np.arange(len(configs)) + (k - (len(groups) - 1) / 2) * step
         rate = np.array([rs[c]["hit_rate"] if c in rs else np.nan for c in configs])
         lo = np.array([rs[c]["hit_rate_ci_low"] if c in rs else np.nan for c in configs])
         hi = np.array([rs[c]["hit_rate_ci_high"] if c in rs else np.nan for c in configs])
-        ax.errorbar(100 * rate, y, xerr=100 * np.array([rate - lo, hi - rate]), fmt="o",
-                    capsize=3, color="tab:blue")
-        ax.set_title(f"{group}: hit rate, 95% Wilson", fontsize=9)
-        ax.set_xlabel("runs reaching the optimum (%)")
-        ax.grid(alpha=0.3)
-    axes[0][0].set_yticks(np.arange(len(configs)), configs, fontsize=7)
-    axes[0][0].invert_yaxis()
+        ax.errorbar(100 * rate, y, xerr=100 * np.array([rate - lo, hi - rate]), fmt="o", ms=4,
+                    capsize=2, color=colour, label=group)
+    ax.set_yticks(np.arange(len(configs)), configs, fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlim(-3, 103)
+    ax.set_xlabel("runs reaching the optimum (%), 95% Wilson interval", fontsize=8)
+    ax.tick_params(axis="x", labelsize=7)
+    ax.grid(alpha=0.3)
+    if len(groups) > 1:
+        fig.legend(loc="outside lower center", ncol=min(3, len(groups)), fontsize=7)
+    else:
+        ax.set_title(groups[0], fontsize=8)
     return save(fig, path)
 
 
 def gap_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
-    family, config = table["group"].to_numpy(), table["config"].to_numpy()
-    groups = list(dict.fromkeys(family.tolist()))
-    fig, axes = subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
-    gap = np.maximum(numeric(table, "gap"), GAP_FLOOR)
-    grid = np.logspace(-6, 0, 300)
-    for ax, group in zip(axes[0], groups):
-        for c, col in zip(configs, _colours(len(configs))):
-            m = (family == group) & (config == c)
+    """ECDF of the final gaps, one panel per group (shared axes, one legend); gaps below
+    the axis's left end (hits among them) are counted there, infeasible runs never."""
+    group, config = table["group"].to_numpy(), table["config"].to_numpy()
+    groups = list(dict.fromkeys(group.tolist()))
+    fig, axes = panels(len(groups))
+    gap = 100 * numeric(table, "gap")
+    grid = np.logspace(np.log10(100 * GAP_FLOOR), 2, 300)  # 0.01% to 100%
+    colours = dict(zip(configs, _colours(len(configs))))
+    handles = {}
+    for ax, g in zip(axes, groups):
+        for c in configs:
+            m = (group == g) & (config == c)
             if m.any():
-                ax.step(grid, stats.ecdf(gap[m], grid), where="post", color=col, label=c, lw=1.2)
-        _label(ax, "gap to the exact optimum (hits drawn at 1e-6)",
-               "fraction of runs with gap at most x",
-               f"{group}: ECDF of final gaps (infeasible runs never count)", xlog=True)
-    axes[0][-1].legend(fontsize=6, loc="lower right")
-    return save(fig, path)
-
-
-def _label(ax, xlabel: str, ylabel: str, title: str, xlog=False, ylog=False) -> None:
-    if xlog:
+                (line,) = ax.step(grid, stats.ecdf(np.maximum(gap[m], grid[0]), grid),
+                                  where="post", color=colours[c], label=c, lw=1.2)
+                handles[c] = line
         ax.set_xscale("log")
-    if ylog:
-        ax.set_yscale("log")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title, fontsize=9)
-    ax.grid(alpha=0.3)
+        ax.set_title(g, fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+        ax.set_xlabel("final gap to the optimum (%)", fontsize=8)
+    for a in axes[::3]:
+        a.set_ylabel("fraction of runs within", fontsize=8)
+    fig.suptitle("Final gaps (left end: gap under 0.01%, hits included; infeasible runs "
+                 "never count)", fontsize=8)
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
+                   ncol=min(3, len(handles)), fontsize=7)
+    return save(fig, path)
 
 
 def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
@@ -118,30 +129,40 @@ def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
     configurations at equal evaluations); one row of panels per group, shared axes.
     Solvers that count no evaluations (OMPL, the exact solver) are left out."""
     evals = numeric(table, "evaluations")
-    group, config = table["group"].to_numpy(), table["config"].to_numpy()
+    config = table["config"].to_numpy()
     configs = [c for c in configs if np.all(np.isfinite(evals[config == c]))]  # counted
-    groups = list(dict.fromkeys(group.tolist()))
-    fig, axes = subplots(len(groups), len(TARGETS), figsize=(7.2, 1.2 + 2.4 * len(groups)),
-                         sharex=True, sharey=True, squeeze=False, layout="constrained")
     top = max((float(evals[config == c].max()) for c in configs), default=1.0)
-    grid = np.linspace(0, top, 400)
+    targets = [(numeric(table, target_column(t)),
+                "the optimum" if t == 0 else f"within {100 * t:g}%") for t in TARGETS]
+    return _ecdf_panels(table, configs, targets, np.linspace(0, top, 400), "evaluations",
+                        False, path)
+
+
+def _ecdf_panels(table: pd.DataFrame, configs: list[str], targets, grid, xlabel: str,
+                 xlog: bool, path: str) -> str:
+    """ECDFs of per-run values (``targets``: (values, title) per column of panels) for
+    each configuration; one row of panels per group, shared axes, one legend."""
+    group, config = table["group"].to_numpy(), table["config"].to_numpy()
+    groups = list(dict.fromkeys(group.tolist()))
+    fig, axes = subplots(len(groups), len(targets), figsize=(7.2, 1.2 + 2.5 * len(groups)),
+                         sharex=True, sharey=True, squeeze=False, layout="constrained")
     colours = dict(zip(configs, _colours(len(configs))))
     handles = {}
     for row, g in zip(axes, groups):
-        for ax, t in zip(row, TARGETS):
-            e = numeric(table, target_column(t))
+        for ax, (values, title) in zip(row, targets):
             for c in configs:
                 m = (group == g) & (config == c)
                 if m.any():
-                    (line,) = ax.step(grid, stats.ecdf(e[m], grid), where="post",
+                    (line,) = ax.step(grid, stats.ecdf(values[m], grid), where="post",
                                       color=colours[c], label=c, lw=1.2)
                     handles[c] = line
-            what = "the optimum" if t == 0 else f"within {100 * t:g}%"
-            ax.set_title(f"{g}: {what}", fontsize=8)
+            if xlog:
+                ax.set_xscale("log")
+            ax.set_title(f"{g}: {title}", fontsize=8)
             ax.grid(alpha=0.3)
         row[0].set_ylabel("fraction of runs")
     for ax in axes[-1]:
-        ax.set_xlabel("evaluations")
+        ax.set_xlabel(xlabel)
     if handles:
         fig.legend(list(handles.values()), list(handles), loc="outside lower center",
                    ncol=min(3, len(handles)), fontsize=7)
@@ -149,12 +170,16 @@ def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
 
 
 def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
+    """Median best-so-far penalised length over the optimum against evaluations (log
+    axes), median over runs, then over a group's scenes; one panel per group."""
     labels = doc_groups(docs)
     docs = [dict(d, family=g) for d, g in zip(docs, labels)]  # grouped by family and size
     groups = list(dict.fromkeys(labels))
-    fig, axes = subplots(1, len(groups), figsize=(1 + 4.5 * len(groups), 4), squeeze=False)
-    for ax, group in zip(axes[0], groups):
-        for c, col in zip(configs, _colours(len(configs))):
+    fig, axes = panels(len(groups))
+    colours = dict(zip(configs, _colours(len(configs))))
+    handles = {}
+    for ax, group in zip(axes, groups):
+        for c in configs:
             ds = [d for d in docs if d["family"] == group and d["config"] == c]
             if not ds or "best_so_far_gap_m" not in ds[0]["curves"]:
                 continue
@@ -165,11 +190,22 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
             longest = max(len(v) for v in curves)
             med = np.median([list(v) + [v[-1]] * (longest - len(v)) for v in curves], axis=0)
             pop = ds[0]["settings"]["population"]
-            ax.plot(pop * (np.arange(len(med)) + 1), np.maximum(med, GAP_FLOOR), color=col,
-                    label=c, lw=1.2)
-        _label(ax, "evaluations", "best-so-far Dist_m / optimum - 1",
-               f"{group}: median over runs, then over scenes", ylog=True)
-    axes[0][-1].legend(fontsize=6, loc="upper right")
+            (line,) = ax.plot(pop * (np.arange(len(med)) + 1), 100 * np.maximum(med, GAP_FLOOR),
+                              color=colours[c], label=c, lw=1.2)
+            handles[c] = line
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(group, fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+        ax.set_xlabel("evaluations", fontsize=8)
+    for a in axes[::3]:
+        a.set_ylabel("best so far, % over the optimum", fontsize=8)
+    fig.suptitle("Convergence: penalised length of the best so far (median over runs, then "
+                 "scenes; the floor 1e-4 % is the optimum)", fontsize=8)
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
+                   ncol=min(3, len(handles)), fontsize=7)
     return save(fig, path)
 
 
@@ -229,38 +265,15 @@ def anytime(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
 
 def time_to_target(table: pd.DataFrame, configs: list[str], path: str) -> str:
     """ECDF of the seconds a run needs to come within 1% of the optimum and to hit it
-    (one core, log axis); one row of panels per family, shared axes."""
-    family, config = table["group"].to_numpy(), table["config"].to_numpy()
-    groups = list(dict.fromkeys(family.tolist()))
-    targets = [(0.01, "time_1pct", "within 1% of the optimum"),
-               (0.0, "time_hit", "the optimum (gap < 1e-6)")]
-    fig, axes = subplots(len(groups), 2, figsize=(7.2, 1.2 + 2.6 * len(groups)), sharex=True,
-                         sharey=True, squeeze=False, layout="constrained")
-    colours = dict(zip(configs, _colours(len(configs))))
-    secs = {name: numeric(table, name) if name in table else np.full(len(table), np.inf)
-            for _, name, _ in targets}
-    finite = np.concatenate([v[np.isfinite(v)] for v in secs.values()] + [np.ones(1)])
+    (one core, log axis); one row of panels per group, shared axes."""
+    secs = [(numeric(table, name) if name in table else np.full(len(table), np.inf), title)
+            for name, title in (("time_1pct", "within 1% of the optimum"),
+                                ("time_hit", "the optimum (gap < 1e-6)"))]
+    finite = np.concatenate([v[np.isfinite(v)] for v, _ in secs] + [np.ones(1)])
     grid = np.logspace(np.log10(max(finite.min(), 1e-6)) - 0.2,
                        np.log10(finite.max()) + 0.2, 300)
-    handles = {}
-    for row, group in zip(axes, groups):
-        for ax, (_, name, title) in zip(row, targets):
-            for c in configs:
-                m = (family == group) & (config == c)
-                if m.any():
-                    (line,) = ax.step(grid, stats.ecdf(secs[name][m], grid), where="post",
-                                      color=colours[c], lw=1.2, label=c)
-                    handles[c] = line
-            ax.set_xscale("log")
-            ax.set_title(f"{group}: {title}", fontsize=8)
-            ax.grid(alpha=0.3)
-        row[0].set_ylabel("fraction of runs")
-    for ax in axes[-1]:
-        ax.set_xlabel("seconds of one run (one core)")
-    if handles:
-        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
-                   ncol=min(3, len(handles)), fontsize=7)
-    return save(fig, path)
+    return _ecdf_panels(table, configs, secs, grid, "seconds of one run (one core)", True,
+                        path)
 
 
 def all_figures(table: pd.DataFrame, docs: list[dict[str, Any]], rows: list[dict[str, Any]],
