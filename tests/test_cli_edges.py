@@ -118,3 +118,31 @@ def test_settings_are_checked_after_every_layer_is_merged(tmp_path, capsys):
     assert str(e.value) == (f"{path}: ga.tournament_size: must be in 1..population (50, from "
                             "the default), got 80")
     assert main(["check", str(path)]) == 2  # check applies the same rule to the file alone
+
+
+def test_an_interrupted_study_says_what_it_kept(tmp_path, capsys, monkeypatch):
+    """Ctrl-C in the second of two cells: exit 130, one line saying that one cell is
+    finished and written; the next start runs only the other."""
+    from hga_jax.study import solvers
+
+    path = tmp_path / "two.toml"
+    path.write_text(f'name = "two"\nruns = 1\nscenarios = ["{PAPER_SCENE}", '
+                    f'"{os.path.abspath("configs/scenarios/open_field.toml")}"]\n'
+                    '[[configs]]\nsolver = "exact"\n')
+    real, calls = solvers.run_cell, []
+
+    def run_cell(*a):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*a)
+
+    out = tmp_path / "out"
+    with monkeypatch.context() as m:
+        m.setattr(solvers, "run_cell", run_cell)
+        assert main(["study", str(path), "--out", str(out), "--quiet"]) == 130
+    (line,) = _err_lines(capsys)
+    assert line == (f"hga-jax: interrupted; 1 of 2 cells finished and written in {out}/cells "
+                    "(1 this time): the same command resumes there")
+    assert main(["study", str(path), "--out", str(out), "--quiet"]) == 0
+    assert "(1 run now, 1 already done)" in capsys.readouterr().out
