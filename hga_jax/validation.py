@@ -6,7 +6,7 @@ The command line (:mod:`hga_jax.host.cli`), the scenario loader
 is written once. A problem raises :class:`~hga_jax.errors.ConfigError` with one
 line ``"<source>: <key>: <problem>"``, where ``source`` is a file, ``"command
 line"`` or a function's name and ``key`` is the key as written there
-(``seed``, ``--first-run``, ``families[0].scenes``).
+(``seed``, ``--first-run``, ``families[1].scenes``).
 
 Run ranges (integers; ``high`` bounds are exclusive in the code, inclusive in the
 messages): a seed is ``0..2**32 - 1`` (run ``k`` of seed ``s`` is keyed by
@@ -179,7 +179,7 @@ def load_plugins(plugins: Sequence[str], source: str, key: str | Callable[[int],
                  ) -> list[str]:
     """Import every plugin in order (:func:`load_plugin`); ``key`` names the option
     (``"--plugin"``) or, given a function of the position, the list's items
-    (``plugins[0]``). Returns the plugins, as given."""
+    (``plugins[1]``: counted from 1). Returns the plugins, as given."""
     for i, plugin in enumerate(plugins):
         load_plugin(plugin, source, key(i) if callable(key) else key)
     return list(plugins)

@@ -216,7 +216,7 @@ def test_loop_families_take_no_density_and_the_study_file_loads(tmp_path):
             'label = "free"\nturns = "free"\n')
     path = tmp_path / "s.toml"
     path.write_text(text)
-    with pytest.raises(ConfigError, match=r"s.toml: families\[0\].density: not used by kind "
+    with pytest.raises(ConfigError, match=r"s.toml: families\[1\].density: not used by kind "
                                           r"cluster_loops"):
         load_study(str(path))
     study = load_study("configs/studies/free_turns.toml")

@@ -63,6 +63,27 @@ def panels(count: int, height: float = 2.4):
     return fig, flat[:count]
 
 
+def _style(ax, title: str, xlabel: str, xlog: bool = True) -> None:
+    """One panel of a grid: log x axis, small title, ticks and label, light grid."""
+    if xlog:
+        ax.set_xscale("log")
+    ax.set_title(title, fontsize=8)
+    ax.tick_params(labelsize=7)
+    ax.grid(alpha=0.3)
+    ax.set_xlabel(xlabel, fontsize=8)
+
+
+def _finish(fig, axes, handles: dict, ylabel: str, title: str, path: str) -> str:
+    """The y label on each row's first panel, a title, one legend below, saved."""
+    for a in axes[::3]:
+        a.set_ylabel(ylabel, fontsize=8)
+    fig.suptitle(title, fontsize=8)
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
+                   ncol=min(3, len(handles)), fontsize=7)
+    return save(fig, path)
+
+
 def hit_rates(rows: list[dict[str, Any]], path: str) -> str:
     """Hit rate with its 95% Wilson interval, one row per configuration and one marker
     colour per group (family and size), in one panel."""
@@ -109,19 +130,9 @@ def gap_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
                 (line,) = ax.step(grid, stats.ecdf(np.maximum(gap[m], grid[0]), grid),
                                   where="post", color=colours[c], label=c, lw=1.2)
                 handles[c] = line
-        ax.set_xscale("log")
-        ax.set_title(g, fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.grid(alpha=0.3)
-        ax.set_xlabel("final gap to the optimum (%)", fontsize=8)
-    for a in axes[::3]:
-        a.set_ylabel("fraction of runs within", fontsize=8)
-    fig.suptitle("Final gaps (left end: gap under 0.01%, hits included; infeasible runs "
-                 "never count)", fontsize=8)
-    if handles:
-        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
-                   ncol=min(3, len(handles)), fontsize=7)
-    return save(fig, path)
+        _style(ax, g, "final gap to the optimum (%)")
+    return _finish(fig, axes, handles, "fraction of runs within", "Final gaps (left end: gap "
+                   "under 0.01%, hits included; infeasible runs never count)", path)
 
 
 def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
@@ -134,8 +145,8 @@ def evaluations_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
     top = max((float(evals[config == c].max()) for c in configs), default=1.0)
     targets = [(numeric(table, target_column(t)),
                 "the optimum" if t == 0 else f"within {100 * t:g}%") for t in TARGETS]
-    return _ecdf_panels(table, configs, targets, np.linspace(0, top, 400), "evaluations",
-                        False, path)
+    return _ecdf_panels(table, configs, targets, np.logspace(1, np.log10(max(top, 100)), 400),
+                        "evaluations", True, path)
 
 
 def _ecdf_panels(table: pd.DataFrame, configs: list[str], targets, grid, xlabel: str,
@@ -148,7 +159,7 @@ def _ecdf_panels(table: pd.DataFrame, configs: list[str], targets, grid, xlabel:
                          sharex=True, sharey=True, squeeze=False, layout="constrained")
     colours = dict(zip(configs, _colours(len(configs))))
     handles = {}
-    for row, g in zip(axes, groups):
+    for i, (row, g) in enumerate(zip(axes, groups)):
         for ax, (values, title) in zip(row, targets):
             for c in configs:
                 m = (group == g) & (config == c)
@@ -156,17 +167,9 @@ def _ecdf_panels(table: pd.DataFrame, configs: list[str], targets, grid, xlabel:
                     (line,) = ax.step(grid, stats.ecdf(values[m], grid), where="post",
                                       color=colours[c], label=c, lw=1.2)
                     handles[c] = line
-            if xlog:
-                ax.set_xscale("log")
-            ax.set_title(f"{g}: {title}", fontsize=8)
-            ax.grid(alpha=0.3)
-        row[0].set_ylabel("fraction of runs")
-    for ax in axes[-1]:
-        ax.set_xlabel(xlabel)
-    if handles:
-        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
-                   ncol=min(3, len(handles)), fontsize=7)
-    return save(fig, path)
+            _style(ax, f"{g}: {title}", xlabel if i == len(groups) - 1 else "", xlog)
+        row[0].set_ylabel("fraction of runs", fontsize=8)
+    return _finish(fig, [], handles, "", "", path)
 
 
 def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
@@ -193,20 +196,11 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
             (line,) = ax.plot(pop * (np.arange(len(med)) + 1), 100 * np.maximum(med, GAP_FLOOR),
                               color=colours[c], label=c, lw=1.2)
             handles[c] = line
-        ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_title(group, fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.grid(alpha=0.3)
-        ax.set_xlabel("evaluations", fontsize=8)
-    for a in axes[::3]:
-        a.set_ylabel("best so far, % over the optimum", fontsize=8)
-    fig.suptitle("Convergence: penalised length of the best so far (median over runs, then "
-                 "scenes; the floor 1e-4 % is the optimum)", fontsize=8)
-    if handles:
-        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
-                   ncol=min(3, len(handles)), fontsize=7)
-    return save(fig, path)
+        _style(ax, group, "evaluations")
+    return _finish(fig, axes, handles, "best so far, % over the optimum", "Convergence: "
+                   "penalised length of the best so far (median over runs, then scenes; the "
+                   "floor 1e-4 % is the optimum)", path)
 
 
 def anytime(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
@@ -243,24 +237,14 @@ def anytime(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
             ax.fill_between(GRID, q[0], q[2], color=colours[c], alpha=0.15, lw=0)
             handles[c] = line
         ax.axhline(0, color="0.4", lw=0.6, ls=":")
-        ax.set_xscale("log")
         ax.set_yscale("symlog", linthresh=0.1)
-        ax.set_xlabel("seconds of one run (one core)", fontsize=8)
-        ax.set_title(group, fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.grid(alpha=0.3)
+        _style(ax, group, "seconds of one run (one core)")
     ax = axes[0]
     ax.set_ylim(bottom=min(-0.02, 1.5 * lowest))
     ax.set_xlim(*((min(times) / 1.5, max(times) * 1.5) if times else (1e-4, 1.0)))
-    for a in axes[::3]:
-        a.set_ylabel("gap to the optimum (%)", fontsize=8)
-    if handles:
-        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
-                   ncol=min(3, len(handles)), fontsize=7)
-    fig.suptitle("Gap held after t seconds: median and quartiles over runs, median over "
-                 "scenes\n(above the plot: no feasible path yet; below 0: shorter than the "
-                 "optimum)", fontsize=8)
-    return save(fig, path)
+    return _finish(fig, axes, handles, "gap to the optimum (%)", "Gap held after t seconds: "
+                   "median and quartiles over runs, median over scenes\n(above the plot: no "
+                   "feasible path yet; below 0: shorter than the optimum)", path)
 
 
 def time_to_target(table: pd.DataFrame, configs: list[str], path: str) -> str:
