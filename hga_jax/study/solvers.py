@@ -23,7 +23,7 @@ import numpy as np
 from hga_jax.model.exact import solve
 from hga_jax.model.path import decode64, evaluate_path
 from hga_jax.running.results import HIT_GAP
-from hga_jax.running.runner import run_many
+from hga_jax.running.runner import joined, run_many
 from . import anytime
 from .config import Config, Study
 from .scenes import Scene
@@ -51,28 +51,12 @@ def _ga_cell(study: Study, config: Config, scene: Scene, runs: int) -> dict[str,
     else:  # each run alone: one compiled shape, called once per run
         parts = [run_many(sc, config.settings, seed=study.seed, runs=1, first_run=k,
                           turns=study.yardstick, exact=k == 0) for k in range(runs)]
-        res = _joined(parts)
+        res = joined(parts)
         times = [p.search_s * p.devices for p in parts]
     full = res.violations
     if config.settings.collision != "full":
         full = decode64(sc, res.perm, res.labels, "full").violations
     return cell_document(res, config, scene, full, times)
-
-
-def _joined(parts):
-    """One result of runs searched one at a time (in run order)."""
-    first = parts[0]
-    cat = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
-    best = min(parts, key=lambda p: (not p.best.feasible, p.best.length))
-    return dataclasses.replace(
-        first, run_ids=cat("run_ids"), perm=cat("perm"), labels=cat("labels"),
-        legs=None if first.legs is None else cat("legs"), length=cat("length"),
-        violations=cat("violations"), generation=cat("generation"),
-        history={k: np.concatenate([p.history[k] for p in parts], axis=1)
-                 for k in first.history},
-        best=best.best, best_run=best.best_run, compile_s=first.compile_s,
-        search_s=sum(p.search_s for p in parts), finish_s=sum(p.finish_s for p in parts),
-        evaluations=sum(p.evaluations for p in parts))
 
 
 def _gap(length: float, feasible: bool, opt: float | None) -> float:
