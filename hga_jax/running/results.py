@@ -26,6 +26,17 @@ ZERO_LENGTH = 1e-9  # metres: a path this short matches an optimum of 0 m
 SEARCH_SLACK = 1e-5  # metres: absolute slack on the search's own (float32) lengths
 
 
+def gap_of(length, feasible, optimum: float) -> np.ndarray:
+    """``length / optimum - 1`` where feasible, inf elsewhere (see the module doc for an
+    optimum of 0 m); elementwise over numpy arrays or numbers."""
+    length = np.asarray(length, np.float64)
+    if optimum > 0.0:
+        rel = length / optimum - 1.0
+    else:
+        rel = np.where(length <= ZERO_LENGTH, 0.0, np.inf)
+    return np.where(feasible, rel, np.inf)
+
+
 @dataclass
 class RunsResult:
     """Everything a batch of runs produced (arrays have one row per run)."""
@@ -68,11 +79,7 @@ class RunsResult:
         opt = self.optimum_length
         if opt is None:
             return np.full(len(self.length), np.nan)
-        if opt > 0.0:
-            rel = self.length / opt - 1.0
-        else:
-            rel = np.where(self.length <= ZERO_LENGTH, 0.0, np.inf)
-        return np.where(self.feasible, rel, np.inf)
+        return gap_of(self.length, self.feasible, opt)
 
     @property
     def hit(self) -> np.ndarray:

@@ -22,12 +22,12 @@ import numpy as np
 
 from hga_jax.model.exact import solve
 from hga_jax.model.path import decode64, evaluate_path
-from hga_jax.running.results import HIT_GAP
+from hga_jax.running.results import HIT_GAP, gap_of
 from hga_jax.running.runner import joined, run_many
 from . import anytime
 from .config import Config, Study
 from .scenes import Scene
-from .store import TARGETS, _evals, cell_document, time_columns
+from .store import TARGETS, cell_document
 
 
 def run_cell(study: Study, config: Config, scene: Scene) -> dict[str, Any]:
@@ -60,9 +60,7 @@ def _ga_cell(study: Study, config: Config, scene: Scene, runs: int) -> dict[str,
 
 
 def _gap(length: float, feasible: bool, opt: float | None) -> float:
-    if opt is None or not feasible:
-        return np.inf
-    return length / opt - 1.0 if opt > 0 else (0.0 if length <= 1e-9 else np.inf)
+    return np.inf if opt is None else float(gap_of(length, feasible, opt))
 
 
 def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: list[dict],
@@ -70,16 +68,21 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
     """The cell document of a solver outside the batched GA, from one dict per run:
     ``length`` (m, float64 model), ``violations`` (the configuration's collision rule),
     ``violations_full``, ``time_s``, ``evaluations`` (None: not counted),
-    ``generation_best`` (None: no generations), ``trace_t``/``trace_gap`` (anytime trace),
-    ``generations`` (per trace point, or None). An OMPL cell also keeps ``paths``: per
+    ``generation_best`` (None: no generations), ``trace_t``/``trace_gap`` (anytime trace)
+    and, for a GA, ``trace_gen``/``trace_eval`` (its generation and evaluations so far at
+    each trace point: the first of each within a target is that run's, DEAP's
+    evaluations counted as made, only changed individuals evaluated again). An OMPL cell also keeps ``paths``: per
     run the waypoint poses ``[x, y, heading]`` of its final path (None: none found)."""
     opt = optimum.length if optimum is not None and optimum.feasible else None
     gap = [_gap(r["length"], r["violations"] == 0, opt) for r in rows]
     n = len(rows)
     k = max(1, max(len(r["trace_t"]) for r in rows))
-    pad = lambda v, fill: list(v) + [v[-1] if v else fill] * (k - len(v))  # noqa: E731
-    times = np.array([pad(r["trace_t"], np.inf) for r in rows], np.float64).T
-    gaps = np.array([pad(r["trace_gap"], np.inf) for r in rows], np.float64).T
+
+    def trace(name: str) -> np.ndarray:  # (K, R): a run's trace, its last entry repeated
+        return np.array([list(v) + [v[-1] if v else np.inf] * (k - len(v))
+                         for v in (r[name] for r in rows)], np.float64).T
+
+    times, gaps = trace("trace_t"), trace("trace_gap")
     columns: dict[str, list] = {
         "run": list(range(n)), "length": [r["length"] for r in rows],
         "feasible": [r["violations"] == 0 for r in rows],
@@ -89,18 +92,16 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
         "hit": [bool(g < HIT_GAP) for g in gap],
         "generation_best": [r["generation_best"] for r in rows],
     }
-    gens = [r.get("generations") for r in rows]
+    counted = all("trace_gen" in r for r in rows)  # a GA's trace: generations, evaluations
     for t in TARGETS:
         tag = "hit" if t == 0 else f"{round(100 * t)}pct"
-        first = [_first_generation(g, tg, t) if g is not None else None
-                 for g, tg in zip(gens, (r["trace_gap"] for r in rows))]
-        columns[f"generation_{tag}"] = first
-        columns[f"evaluations_{tag}"] = (
-            _evals(np.array([-1 if f is None else f for f in first]), config.settings.population)
-            if config.solver == "deap" else [None] * n)
+        for clock, name in (("generation", "trace_gen"), ("evaluations", "trace_eval")):
+            first = anytime.first_time(trace(name), gaps, t) if counted else [None] * n
+            columns[f"{clock}_{tag}"] = [None if v is None else int(v) for v in first]
     columns["evaluations_run"] = [r["evaluations"] for r in rows]
     columns["time_s"] = [r["time_s"] for r in rows]
-    columns.update(time_columns(times, gaps))
+    columns.update({("time_hit" if t == 0 else f"time_{round(100 * t)}pct"):
+                    anytime.first_time(times, gaps, t) for t in TARGETS})
     evaluations = [r["evaluations"] for r in rows]
     return {
         "solver": config.solver, "batch": True, "config": config.label,
@@ -120,13 +121,6 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
         "columns": columns, "curves": {"anytime_gap": anytime.quartiles(times, gaps)},
         **(extra or {}),
     }
-
-
-def _first_generation(gens, gaps, target: float) -> int | None:
-    for g, v in zip(gens, gaps):
-        if v <= target + anytime.SLACK * (1.0 + target):
-            return int(g)
-    return None
 
 
 def _best(rows: list[dict], gap: list[float]) -> dict[str, Any]:
@@ -163,7 +157,8 @@ def _deap_cell(study, config, scene, runs, optimum) -> dict[str, Any]:
                      "evaluations": r["evaluations"], "generation_best": r["generation"],
                      "trace_t": [t for t, *_ in r["trace"]],
                      "trace_gap": [_gap(length, v == 0, opt) for _, _, length, v in r["trace"]],
-                     "generations": list(range(len(r["trace"])))})
+                     "trace_gen": list(range(len(r["trace"]))),
+                     "trace_eval": [e for _, e, *_ in r["trace"]]})
     return peer_document(study, config, scene, optimum, rows)
 
 

@@ -21,7 +21,7 @@ import numpy as np
 from hga_jax import __version__
 from hga_jax.model.fitness import length_of_fitness
 from hga_jax.host.output import write_json
-from hga_jax.running.results import NEAR_GAP, RunsResult, json_safe
+from hga_jax.running.results import NEAR_GAP, RunsResult, gap_of, json_safe
 from . import anytime
 from .config import Config
 from .scenes import Scene
@@ -86,13 +86,6 @@ def _evals(gen: np.ndarray, population: int) -> list[int | None]:
     return [population * (int(g) + 1) if g >= 0 else None for g in gen]
 
 
-def time_columns(times, gaps) -> dict[str, list]:
-    """``time_5pct``, ``time_1pct``, ``time_hit``: per run the first time (s) within each
-    target of :data:`TARGETS` (None: never), from traces (:mod:`~hga_jax.study.anytime`)."""
-    return {("time_hit" if t == 0 else f"time_{round(100 * t)}pct"):
-            anytime.first_time(times, gaps, t) for t in TARGETS}
-
-
 def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full,
                   time_s=None) -> dict:
     """Everything the tables and figures need from one cell, JSON-ready and columnar.
@@ -113,13 +106,15 @@ def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full
         "gap": [None if not np.isfinite(g) else float(g) for g in res.gap],
         "hit": res.hit.tolist(), "generation_best": res.generation.tolist(),
     }
-    for t in TARGETS[1:]:
-        gen = res.first_generation_within(t)
-        tag = f"{round(100 * t)}pct"
+    generations = res.history["best_fitness"].shape[0]
+    per_gen = time_s / generations  # generation g ends at (g + 1) / (G + 1) of the run
+    for t in TARGETS:
+        gen = gen_hit if t == 0 else res.first_generation_within(t)
+        tag = "hit" if t == 0 else f"{round(100 * t)}pct"
         columns[f"generation_{tag}"] = gen.tolist()
         columns[f"evaluations_{tag}"] = _evals(gen, s.population)
-    columns["generation_hit"] = gen_hit.tolist()
-    columns["evaluations_hit"] = _evals(gen_hit, s.population)
+        columns[f"time_{tag}"] = [None if g < 0 else float((g + 1) * p)
+                                  for g, p in zip(gen, per_gen)]
     h = res.history
     dist_m = length_of_fitness(h["best_so_far_fitness"].astype(np.float64))
     curves = {name: np.percentile(h[name].astype(np.float64), QUANTILES, axis=1).tolist()
@@ -132,15 +127,10 @@ def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full
         curves["within_1pct_fraction"] = np.mean((near >= 0) & (near <= gens), axis=1).tolist()
     curves["run0_best_fitness"] = h["best_fitness"][:, 0].astype(float).tolist()
     curves["run0_best_so_far_fitness"] = h["best_so_far_fitness"][:, 0].astype(float).tolist()
-    generations = h["best_fitness"].shape[0]
     columns["time_s"] = time_s.tolist()
-    if opt is not None:  # generation g ends at (g + 1) / (G + 1) of the run's time
-        ends = (np.arange(generations)[:, None] + 1) * (time_s[None, :] / generations)
-        gaps = np.where(h["best_so_far_violations"] == 0,
-                        h["best_so_far_length"].astype(np.float64) / opt - 1.0, np.inf)
-        columns.update(time_columns(ends, gaps))
-        columns["time_hit"] = [None if g < 0 else float((g + 1) * t / generations)
-                               for g, t in zip(gen_hit, time_s)]
+    if opt is not None:
+        ends = (np.arange(generations)[:, None] + 1) * per_gen[None, :]
+        gaps = gap_of(h["best_so_far_length"], h["best_so_far_violations"] == 0, opt)
         curves["anytime_gap"] = anytime.quartiles(ends, gaps)
     o = res.optimum
     return {

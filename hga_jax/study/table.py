@@ -61,8 +61,8 @@ def build(study: str, docs: Iterable[dict[str, Any]]) -> pd.DataFrame:
         settings_keys = settings_keys or list(doc["settings"])
         cols = dict(doc["columns"])
         cols["optimum"] = [doc["optimum"]] * n
-        cols["evaluations"] = ([c for c in cols.pop("evaluations_run")] if "evaluations_run"
-                               in cols else [doc["evaluations_per_run"]] * n)
+        cols["evaluations"] = (list(cols.pop("evaluations_run")) if "evaluations_run" in cols
+                               else [doc["evaluations_per_run"]] * n)
         if "time_s" not in cols:  # cells written before times per run
             cols["time_s"] = [doc["search_s"] / n] * n
         cols["compile_s"] = [doc.get("compile_s", 0.0)] * n
