@@ -8,24 +8,22 @@ import tempfile
 import pytest
 from hypothesis import settings
 
-# One compilation cache for the whole test session, in a temporary folder removed at
-# the end: tests that compile the same program (in this process, in pytest-xdist's
-# workers or in command-line subprocesses, which inherit HGA_JAX_CACHE_DIR) compile it
-# once. Nothing is kept between sessions, so every session still compiles each program
+# One folder of compiled programs for the whole test session, in a temporary folder
+# removed at the end: tests that compile the same program (in this process, in
+# pytest-xdist's workers or in command-line subprocesses, which inherit
+# HGA_JAX_CACHE_DIR) compile it once. Nothing is kept between sessions, so every session still compiles each program
 # once. The tests of the cache itself give their subprocesses folders of their own.
 # HGA_JAX_TEST_CACHE=off runs the session without one.
 if "HGA_JAX_TEST_CACHE" not in os.environ:  # the first process of the session makes it
-    os.environ["HGA_JAX_TEST_CACHE"] = tempfile.mkdtemp(prefix="hga-jax-test-xla-")
+    os.environ["HGA_JAX_TEST_CACHE"] = tempfile.mkdtemp(prefix="hga-jax-test-programs-")
     atexit.register(shutil.rmtree, os.environ["HGA_JAX_TEST_CACHE"], ignore_errors=True)
 os.environ["HGA_JAX_CACHE_DIR"] = os.environ["HGA_JAX_TEST_CACHE"]
 
 
 def pytest_configure(config):
-    if os.environ["HGA_JAX_CACHE_DIR"] != "off":
-        import jax
+    from hga_jax.compiled import enable_compilation_cache
 
-        jax.config.update("jax_compilation_cache_dir", os.environ["HGA_JAX_CACHE_DIR"])
-        jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)  # as the CLI
+    enable_compilation_cache()  # as the command line does
 
 
 settings.register_profile("dev", max_examples=150, deadline=None)

@@ -246,7 +246,7 @@ def test_one_obstacle_blocking_the_straight_line():
     assert straight.violations > 0 and close(straight.length, 10.0)
     res = solve(sc)
     # Centre above the line: pass below it, the obstacle on the left (CCW, -1).
-    assert res.touched == [(0, -1)] and res.upper == [0, 1, 2] and res.lower[1] == -1
+    assert res.touched == [(1, -1)] and res.upper == [0, 1, 2] and res.lower[1] == -1
     assert 10.0 < res.length < 10.0 + 2.0
     assert close(res.length, brute_force(sc, "full"))
 
@@ -255,14 +255,14 @@ def test_side_forced_by_overlapping_obstacle():
     start, goal = (0.0, 0.0, 0.0), (10.0, 0.0, 0.0)
     field = Field(-1.0, 11.0, -3.0, 6.0, keep_inside=True)
     free = scene([[5.0, 0.3]], [0.5], start, goal, field=field)
-    assert solve(free).touched == [(0, -1)]  # alone, it is passed below
+    assert solve(free).touched == [(1, -1)]  # alone, it is passed below
     # A second obstacle overlaps it from below down to the field's edge.
     sc = scene([[5.0, 0.3], [5.0, -1.5]], [0.5, 1.3], start, goal, field=field)
     r = sc.model_radii
     assert np.hypot(*(sc.centres[0] - sc.centres[1])) < r[0] + r[1]
     assert sc.centres[1, 1] - r[1] < field.ymin + sc.robot_radius
     res = solve(sc)
-    assert (0, 1) in res.touched and (0, -1) not in res.touched  # passed above: CW
+    assert (1, 1) in res.touched and (1, -1) not in res.touched  # obstacle 1 passed above: CW
     assert all(lab == 1 for _, lab in res.touched)
     assert close(res.length, brute_force(sc, "full"))
 

@@ -162,7 +162,8 @@ def test_optimum_overlay_and_touched_format(scene):
     other = evaluate_path(scene, [1, 0], [1, 0, 0, 1])
     ax = plot_path(scene, other.segments, optimum=path.segments, touched=path.touched).axes[0]
     assert len(_by_gid(ax, "optimum_path")) == len(path.segments)
-    assert path.touched == [(0, 1)] and path.to_dict()["touched"] == [{"obstacle": 1, "label": 1}]
+    assert path.touched == [(1, 1)] and path.to_dict()["touched"] == [{"obstacle": 1, "label": 1}]
+    assert path.touched[0].obstacle == 1 and path.touched[0].label == 1
     for same in (path.touched, path.to_dict()["touched"]):  # Python's pairs, the file's items
         ax = plot_path(scene, path.segments, touched=same).axes[0]
         assert [t.get_text() for t in _by_gid(ax, "touched")] == ["CW"]

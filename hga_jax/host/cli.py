@@ -269,7 +269,7 @@ def _output_args(p: argparse.ArgumentParser, default_out: str) -> None:
                    help="print the summary as one JSON object on stdout instead of text")
     p.add_argument("--quiet", action="store_true", help="no progress or compile messages")
     p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs on "
-                   "disk (default: $HGA_JAX_CACHE_DIR or ~/.cache/hga-jax/xla)")
+                   "disk (default: $HGA_JAX_CACHE_DIR or ~/.cache/hga-jax/programs)")
 
 
 def _ga_file(path: str) -> tuple[dict[str, Any], list[str]]:
@@ -316,7 +316,7 @@ def _default_out(scenario_path: str, suffix: str = "") -> str:
 def _cache(args) -> None:
     """Keep compiled programs on disk unless ``--no-cache``; warn if that cannot be done."""
     if not args.no_cache:
-        from hga_jax.running.runner import enable_compilation_cache
+        from hga_jax.compiled import enable_compilation_cache
 
         enable_compilation_cache(on_error=lambda m: _warn(m))
 

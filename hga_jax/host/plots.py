@@ -68,17 +68,17 @@ def _touches(touched: Iterable[Any], n: int) -> dict[int, int]:
     """``touched`` -> {obstacle index from 0: label}.
 
     Items are the result files' ``{"obstacle": number from 1, "label": +1 | -1}`` or
-    Python's ``(index from 0, label)`` pairs (``Path.touched``, ``ExactResult.touched``).
+    ``(number from 1, label)`` pairs (``Path.touched``, ``ExactResult.touched``).
     """
     out = {}
     for item in touched:
         if isinstance(item, Mapping) and set(item) == {"obstacle", "label"}:
             k, label = int(item["obstacle"]) - 1, int(item["label"])
         elif not isinstance(item, (Mapping, str)) and len(item) == 2:
-            k, label = int(item[0]), int(item[1])
+            k, label = int(item[0]) - 1, int(item[1])
         else:
             raise TypeError("touched: items must be {'obstacle': number from 1, 'label': +1 "
-                            f"or -1}} as in result.json, or (index from 0, label), got {item!r}")
+                            f"or -1}} as in result.json, or (number from 1, label), got {item!r}")
         if not 0 <= k < n:
             raise ValueError(f"touched: obstacle must be in 1..{n}, got number {k + 1}")
         out[k] = label
@@ -104,7 +104,7 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     ``segments``: travel-ordered arc/line dicts of the result-file format
     (docs/model.md); may be empty. ``touched``: the result files' items
     ``{"obstacle": number from 1, "label": +1 CW / -1 CCW}`` (``best["touched"]`` of
-    a result.json) or ``(index from 0, label)`` pairs (``Path.touched``), highlighted
+    a result.json) or ``(number from 1, label)`` pairs (``Path.touched``), highlighted
     on the picture.
     ``optimum``: another segment list (the exact optimum) drawn dashed over the
     path. ``violations_at``: ``Path.violations_at`` items; each offending piece is

@@ -20,7 +20,7 @@ import numpy as np
 from hga_jax.errors import ConfigError
 from hga_jax.model.fitness import fitness_of, length_of_fitness
 from .output import csv_writer, figure_writer, json_writer, write_result
-from hga_jax.model.path import touch_list
+from hga_jax.model.touch import touch_list
 from hga_jax.running.progress import count
 from hga_jax.running.results import RunsResult, json_safe, optimum_dict, result_document
 from hga_jax.model.scenario import Scenario
@@ -36,8 +36,8 @@ def pct(x: float | None) -> str:
 
 
 def touches(touched: list[tuple[int, int]]) -> str:
-    """``"2CW 4CW 5CCW"`` (obstacles numbered from 1) from ``(index from 0, label)`` pairs."""
-    return " ".join(f"{i + 1}{'CW' if s > 0 else 'CCW'}" for i, s in touched) or "no obstacle"
+    """``"2CW 4CW 5CCW"`` from :class:`~hga_jax.model.touch.Touch` pairs (obstacles numbered from 1)."""
+    return " ".join(f"{k}{'CW' if s > 0 else 'CCW'}" for k, s in touched) or "no obstacle"
 
 
 def operators(st: GASettings) -> str:

@@ -41,7 +41,7 @@ from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from hga_jax.errors import ModelMismatchError
 from .graph_search import MAX_LABELS, Graph, search, walk
-from .path import Path, chromosome, evaluate_path
+from .path import Path, Touch, chromosome, evaluate_path, touch_list
 from .scenario import Scenario
 
 TOL = g.tolerances(np.float64)
@@ -57,7 +57,8 @@ class ExactResult:
     walk_length: the shortest walk in the tangent graph (m). seconds: time of the graph
     build and search (s); the decoder's float64 re-check of the path is not counted.
     upper, lower: the optimal chromosome (docs/model.md), None when not expressible.
-    touched: ``(obstacle 0-based, label)`` along the optimal walk, in travel order.
+    touched: :class:`~hga_jax.model.path.Touch` ``(obstacle number from 1, label)`` along
+      the optimal walk, in travel order.
     expressible: False when the optimal walk touches one obstacle twice; then
       ``best_expressible`` is the best chromosome-expressible feasible path (None if none).
     path: ``evaluate_path`` of the optimal chromosome (None when not expressible; then
@@ -78,7 +79,7 @@ class ExactResult:
     expressible: bool
     upper: list[int] | None
     lower: list[int] | None
-    touched: list[tuple[int, int]]
+    touched: list[Touch]
     path: Path | None
     best_expressible: Path | None
     segments: list[dict[str, Any]] = field(default_factory=list)
@@ -93,7 +94,7 @@ class ExactResult:
         best = self.best_expressible
         return {
             "length": self.length if self.feasible else None,
-            "feasible": self.feasible, "touched": [list(t) for t in self.touched],
+            "feasible": self.feasible, "touched": touch_list(self.touched),
             "upper": self.upper, "lower": self.lower, "expressible": self.expressible,
             "walk_length": self.walk_length if self.feasible else None,
             "best_expressible": None if best is None else best.to_dict(),
@@ -251,7 +252,7 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope"
                            seconds=time.perf_counter() - t0, message="no feasible path")
     circs, segs = walk(gr, edges)
     obs, sg = gr.circles[4], gr.circles[3]
-    touched = [(int(obs[c]), int(sg[c])) for c in circs[1:-1]]
+    touched = [Touch(int(obs[c]) + 1, int(sg[c])) for c in circs[1:-1]]
     expressible = len({o for o, _ in touched}) == len(touched)
     upper = lower = path = best = None
     length, message = walk_length, "optimal"

@@ -28,6 +28,7 @@ from hga_jax.model import geometry as g
 
 from .free_circles import circles, reach
 from .graph_search import Graph, search, walk
+from .touch import Touch
 from .scenario import Scenario
 
 TOL = g.tolerances(np.float64)
@@ -198,7 +199,8 @@ def shortest(sc: Scenario, bound: float = math.inf):
     metres, none shorter than it: pass a known path's length, such as the tight-rope
     optimum's, a little raised). Segments are those of the
     result files; an arc on a free circle carries ``"free": true``. ``touched``: the
-    ``(obstacle from 0, label)`` model circles the path turns on, in travel order."""
+    :class:`~hga_jax.model.path.Touch` ``(obstacle number from 1, label)`` model circles
+    the path turns on, in travel order."""
     gr = build(sc, bound)
     gx, gy = float(sc.goal[0]), float(sc.goal[1])
     h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
@@ -214,5 +216,5 @@ def shortest(sc: Scenario, bound: float = math.inf):
             seg["free"] = True
             free += 1
     own, sg = gr.circles[4], gr.circles[3]
-    touched = [(int(own[c]), int(sg[c])) for c in circs if 4 <= c < first_free]
+    touched = [Touch(int(own[c]) + 1, int(sg[c])) for c in circs if 4 <= c < first_free]
     return float(length), segs, touched, free

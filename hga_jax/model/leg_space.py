@@ -16,6 +16,7 @@ import numpy as np
 from . import free_turns
 from .free_legs import table
 from .graph_search import search, walk
+from .touch import Touch
 from .scenario import Scenario
 
 
@@ -56,5 +57,5 @@ def shortest(sc: Scenario):
                        "free": True}
             free += 1
     own, sg = circ[4], circ[3]
-    touched = [(int(own[c]), int(sg[c])) for c in circs if c >= 4]
+    touched = [Touch(int(own[c]) + 1, int(sg[c])) for c in circs if c >= 4]
     return float(length), segs, touched, free

@@ -7,8 +7,8 @@ precision the search used.
 
 Obstacles are *numbered* from 1 (the order of the scenario's ``[[obstacles]]``
 tables) in what users read: ``upper``, ``violations_at`` and the result files'
-``touched``. Python-side indices into arrays (``perm``, ``scenario.centres``,
-``Path.touched`` and ``ExactResult.touched`` pairs) count from 0.
+``touched``, in files and in Python results alike (:class:`Touch`). Python-side
+indices into arrays (``perm``, ``scenario.centres``) count from 0.
 """
 from __future__ import annotations
 
@@ -23,6 +23,7 @@ from hga_jax.model import geometry as g
 from . import free_legs
 from hga_jax.errors import ConfigError
 from .scenario import Scenario
+from .touch import Touch, touch_list
 
 
 @functools.cache
@@ -57,14 +58,21 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full", legs=Non
         legs = padded(np.asarray(legs, np.int32).reshape(rows, scenario.n + 2))
     import jax
 
-    parts, decode = [], _decoder()
+    from hga_jax import compiled
+
+    parts = []
     with jax.enable_x64(True):
         sa = scenario.arrays(np.float64)
         if legs is not None:
             sa = sa._replace(free_legs=free_legs.leg_table(scenario))
+        block = (lambda a: None if a is None else a[:BLOCK])
+        key = ("decode64", collision, legs is None, tuple(
+            (np.shape(a), np.result_type(a).name) for a in jax.tree.leaves(sa)))
+        decode = compiled.program(key, lambda: _decoder().lower(
+            sa, perm[:BLOCK], labels[:BLOCK], collision=collision, legs=block(legs)))
         for i in range(0, rows + pad, BLOCK):
-            d = decode(sa, perm[i:i + BLOCK], labels[i:i + BLOCK], collision=collision,
-                        legs=None if legs is None else legs[i:i + BLOCK])
+            d = decode(sa, perm[i:i + BLOCK], labels[i:i + BLOCK],
+                       legs=None if legs is None else legs[i:i + BLOCK])
             parts.append(jax.tree.map(np.asarray, d))
     return jax.tree.map(lambda *xs: np.concatenate(xs)[:rows], *parts)
 
@@ -77,9 +85,9 @@ class Path:
     upper, lower: the chromosome (upper ``[0, ..., n+1]``, lower labels).
     segments: segment dicts of the result files in travel order (zero-length pieces
       left out, and lines shorter than ``TINY``: rounding, with no direction).
-    touched: ``(obstacle index from 0, label +1 CW / -1 CCW)`` pairs in travel order, as
-      in :class:`~hga_jax.model.exact.ExactResult`; ``to_dict`` writes them in the result
-      files' format, ``{"obstacle": number from 1, "label": ...}``.
+    touched: :class:`Touch` ``(obstacle number from 1, label +1 CW / -1 CCW)`` pairs in
+      travel order, as in :class:`~hga_jax.model.exact.ExactResult`; ``to_dict`` writes
+      them in the result files' format, ``{"obstacle": number from 1, "label": ...}``.
     violations_at: one dict per violation: ``{"kind": "obstacle" | "missing tangent" |
       "field", "segment": index into segments (None for a zero-length piece),
       "obstacle": number from 1 (None unless kind is "obstacle")}``.
@@ -92,7 +100,7 @@ class Path:
     upper: list[int]
     lower: list[int]
     segments: list[dict[str, Any]] = field(default_factory=list)
-    touched: list[tuple[int, int]] = field(default_factory=list)
+    touched: list[Touch] = field(default_factory=list)
     violations_at: list[dict[str, Any]] = field(default_factory=list)
     legs: list[int] | None = None
 
@@ -112,11 +120,6 @@ class Path:
             "violations_at": self.violations_at,
             **({} if self.legs is None else {"legs": self.legs}),
         }
-
-
-def touch_list(pairs: Sequence[Sequence[int]]) -> list[dict[str, int]]:
-    """``touched`` of the result files from ``(obstacle index from 0, label)`` pairs."""
-    return [{"obstacle": int(i) + 1, "label": int(s)} for i, s in pairs]
 
 
 def chromosome(perm: Sequence[int], labels: Sequence[int]) -> tuple[list[int], list[int]]:
@@ -195,7 +198,7 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
                 segments.append({"type": "line", "start": [p1x, p1y], "end": [p2x, p2y]})
             where += locate.line((p1x, p1y, p2x, p2y), exists > 0.5,
                                  len(segments) - 1 if drawn else None)
-    touched = [(int(d.obstacle[s]), int(d.circles[s][3])) for s in range(1, count - 1)]
+    touched = [Touch(int(d.obstacle[s]) + 1, int(d.circles[s][3])) for s in range(1, count - 1)]
     return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where,
                 None if legs is None else [int(v) for v in legs])
 

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from hga_jax.model.path import Path, chromosome, touch_list
+from hga_jax.model.path import Path, chromosome
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 
@@ -220,11 +220,8 @@ def result_document(scenario: Scenario, body: dict[str, Any]) -> dict[str, Any]:
 
 
 def optimum_dict(opt: Any) -> dict[str, Any] | None:
-    """result.json's ``optimum`` from an :class:`~hga_jax.model.exact.ExactResult` (or None):
-    ``touched`` in the files' format, obstacles numbered from 1."""
-    if opt is None:
-        return None
-    return {**opt.to_dict(), "touched": touch_list(opt.touched)}
+    """result.json's ``optimum`` from an :class:`~hga_jax.model.exact.ExactResult` (or None)."""
+    return None if opt is None else opt.to_dict()
 
 
 def json_safe(obj: Any) -> Any:

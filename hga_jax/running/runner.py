@@ -12,22 +12,20 @@ every process (:mod:`hga_jax.running.distributed`).
 from __future__ import annotations
 
 import functools
-import os
 import sys
 import time
-import warnings
-from typing import Any, Callable, NamedTuple
+from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from hga_jax import validation
+from hga_jax import compiled, validation
 from hga_jax.running import budget
 from hga_jax.errors import Interrupted
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import fitness_of
-from hga_jax.search import ga
+from hga_jax.search import ga, registry
 from hga_jax.search.ga import Record, host_generation_keys
 from hga_jax.running.progress import bar as bar_of, count, tick
 from hga_jax.model import free_legs
@@ -36,56 +34,6 @@ from hga_jax.running.results import RunsResult
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 from hga_jax.search.settings import preset as presets
-
-_COMPILED: dict[Any, Any] = {}  # recent compiled programs (a study reuses them across scenes)
-_COMPILED_KEEP = 16
-
-
-def _compiled(key: tuple, build: Callable[[], Any]) -> Any:
-    """The compiled program for ``key``, built by ``build()`` unless one of the recent
-    ones fits. Programs depend on the seed, settings, batch and array shapes, not on
-    the scenario's values, so scenes of one size share them."""
-    program = _COMPILED.pop(key, None) or build()
-    _COMPILED[key] = program
-    while len(_COMPILED) > _COMPILED_KEEP:
-        _COMPILED.pop(next(iter(_COMPILED)))
-    return program
-
-
-def enable_compilation_cache(path: str | None = None,
-                             on_error: Callable[[str], None] | None = None) -> str | None:
-    """Keep compiled GA programs on disk, so a repeated run skips most of its compile.
-
-    ``path`` defaults to ``$HGA_JAX_CACHE_DIR``, else ``$XDG_CACHE_HOME/hga-jax/xla``
-    (``~/.cache/hga-jax/xla``); ``HGA_JAX_CACHE_DIR=off`` disables it. Sets JAX's
-    global compilation-cache option (the command line does this; notebooks may).
-    Returns the folder used, or None. A folder that cannot be created or written
-    only costs compile time: ``on_error`` (default :func:`warnings.warn`) is told
-    why, in one line.
-    """
-    env = os.environ.get("HGA_JAX_CACHE_DIR")
-    where = path if path is not None else env
-    if where in ("", "off"):
-        return None
-    if where is None:
-        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-        where = os.path.join(base, "hga-jax", "xla")
-    named = "HGA_JAX_CACHE_DIR=" if path is None and env is not None else ""
-    problem = None
-    try:
-        os.makedirs(where, exist_ok=True)
-        if not os.access(where, os.W_OK | os.X_OK):
-            problem = "not writable"
-    except OSError as e:
-        problem = e.strerror or str(e)
-    if problem:
-        (on_error or warnings.warn)(f"{named}{where}: cannot keep compiled programs there "
-                                    f"({problem}); compiling without a cache")
-        return None
-    jax.config.update("jax_compilation_cache_dir", where)
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
-    return where
-
 
 def settings_for(scenario: Scenario, base: GASettings | None = None) -> GASettings:
     """The scenario's ``[ga]`` table on top of ``base`` (default: the paper's settings)."""
@@ -274,9 +222,9 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
             keys0 = _put(host_generation_keys(seed, ks_all[:size], settings), sharding)
             blank = _put_tree(_blank_batch(size, sa, settings), sharding)
-            block = _compiled(("block", settings) + shapes, lambda: jax.jit(
+            block = compiled.program(("ga-block", settings) + shapes, lambda: jax.jit(
                 _per_device(functools.partial(_block, steps=cut.block), sharding)
-            ).lower(keys0, blank, np.int32(0), sa).compile())
+            ).lower(keys0, blank, np.int32(0), sa), disk=registry.builtin_only(settings))
             compile_s, search_s = time.perf_counter() - t0, 0.0
             compiling = False
             for b, lo in enumerate(range(0, len(ks_all), size)):
@@ -369,7 +317,7 @@ def _per_device(block, sharding):
     """``block`` as the compiled batch program: split over the devices by the sharded
     ``jit`` itself in a single process; in a multi-process job, run by each device on
     its own share of the runs (``shard_map``), so that a generation's "some run
-    restarts" (:func:`~hga_jax.search.jax_compat.any_run`) is asked of the device's
+    restarts" (:func:`~hga_jax.jax_compat.any_run`) is asked of the device's
     runs, with no collective between the devices (on the CPU those go through Gloo,
     which prints on standard output). The runs are the same either way; ``shard_map``
     measured about 20% slower on one process's two devices."""

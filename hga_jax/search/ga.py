@@ -29,7 +29,7 @@ import jax.numpy as jnp
 from hga_jax.model.fitness import evaluate
 from hga_jax.model.scenario import ScenarioArrays
 
-from .jax_compat import RUNS, any_run, fixed_stream
+from hga_jax.jax_compat import RUNS, any_run, fixed_stream
 from .run_keys import generation_keys, host_generation_keys, run_indices, run_key
 from .settings import GASettings
 from .state import Best, GAState, Population, Record, blank, record
@@ -88,7 +88,7 @@ def _restarts(state: GAState):
 def _restarted(words, chrom, restart, sa, settings: GASettings):
     """``chrom = (perm, labels, legs)`` with fresh chromosomes (:func:`_fresh`, from the
     generation's words) for a run that restarts. Drawn only when some run of the batch restarts
-    (:func:`~hga_jax.search.jax_compat.any_run`): at most one generation in
+    (:func:`~hga_jax.jax_compat.any_run`): at most one generation in
     ``restart_after`` (seeded fresh chromosomes cost about three generations)."""
     n = chrom[0].shape[-1]
 

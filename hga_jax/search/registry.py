@@ -105,6 +105,14 @@ def names(kind: str) -> tuple[str, ...]:
     return tuple(_kind(kind))
 
 
+def builtin_only(settings: Any) -> bool:
+    """Whether every operator ``settings`` (a GASettings) names is built in: its
+    programs then depend on hga_jax's code alone (:mod:`hga_jax.compiled` stores
+    those on disk)."""
+    builtin = {(k, name) for k, name, *_ in BUILTINS}
+    return all((kind, getattr(settings, kind)) in builtin for kind in KINDS)
+
+
 def entry(kind: str, name: str) -> Operator:
     """The :class:`Operator` of ``name``; ValueError listing the known names if unknown."""
     table = _kind(kind)

@@ -7,7 +7,7 @@ original (not "partitionable") layout; that stream is part of what a seed means
 as a rolled loop, which costs about 5 ns per 32-bit number; the GA draws about
 1,500 numbers per run and generation, more than its fitness costs. This module
 registers the same generator as a PRNG implementation of its own
-(``define_prng_impl``, through :mod:`hga_jax.search.jax_compat`) whose hash is written out round by
+(``define_prng_impl``, through :mod:`hga_jax.jax_compat`) whose hash is written out round by
 round in ``jax.numpy``: XLA fuses it into the code around it at about 1.4 ns per
 number. Keys, splits, ``fold_in`` and bits are bit for bit JAX's threefry ones
 (tested against ``jax.random`` for many keys and shapes), so results do not
@@ -22,7 +22,7 @@ import math
 import jax
 import jax.numpy as jnp
 import numpy as np
-from .jax_compat import define_prng_impl
+from hga_jax.jax_compat import define_prng_impl
 
 _PARITY = np.uint32(0x1BD11BDA)  # threefry's key-schedule constant
 _ROTATIONS = ((13, 15, 26, 6), (17, 29, 16, 24))

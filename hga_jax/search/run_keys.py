@@ -13,7 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from . import rng
-from .jax_compat import fixed_stream
+from hga_jax.jax_compat import fixed_stream
 from .settings import GASettings
 
 

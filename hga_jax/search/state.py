@@ -15,7 +15,7 @@ import numpy as np
 from hga_jax.model.reductions import tree_sum
 from hga_jax.model.scenario import ScenarioArrays
 
-from .jax_compat import static_pytree
+from hga_jax.jax_compat import static_pytree
 from .settings import GASettings
 
 

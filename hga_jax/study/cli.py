@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
 
     devices.from_option(args)  # before anything starts JAX's runtime
     if not args.no_cache:
-        from hga_jax.running.runner import enable_compilation_cache
+        from hga_jax.compiled import enable_compilation_cache
 
         enable_compilation_cache()
     if args.scenes is not None:

@@ -11,7 +11,9 @@ Python 3.12) is a change of this file, checked by ``tests/test_rng.py``
   (``jax_threefry_partitionable`` off, whatever the caller's setting);
 - :func:`any_run`: a flag over the runs of a vmapped batch (a collective over the
   named ``vmap`` axis, or the run's own flag when there is no batch);
-- :func:`static_pytree`: a hashable settings class as a pytree without leaves.
+- :func:`static_pytree`: a hashable settings class as a pytree without leaves;
+- :func:`save_executable` / :func:`load_executable`: a compiled program as bytes and
+  back (``jax.experimental.serialize_executable``), for :mod:`hga_jax.compiled`.
 """
 from __future__ import annotations
 
@@ -21,7 +23,8 @@ import jax
 import jax.numpy as jnp
 from jax.extend.random import define_prng_impl
 
-__all__ = ["RUNS", "any_run", "define_prng_impl", "fixed_stream", "static_pytree"]
+__all__ = ["RUNS", "any_run", "define_prng_impl", "fixed_stream", "load_executable",
+           "save_executable", "static_pytree"]
 
 RUNS = "runs"
 """The name of the ``vmap`` axis over the runs of a batch (``jax.vmap(..., axis_name=RUNS)``)."""
@@ -57,3 +60,23 @@ def static_pytree(cls):
     instance inside a state is static (part of the compiled program's identity)."""
     jax.tree_util.register_static(cls)
     return cls
+
+
+def save_executable(compiled) -> tuple:
+    """``compiled`` (a ``jax.stages.Compiled``) as a picklable tuple: the executable's
+    bytes, its input and output tree structures and the ids of the devices it runs on."""
+    from jax.experimental import serialize_executable
+
+    devices = compiled._executable.xla_executable.local_devices()
+    return (*serialize_executable.serialize(compiled), tuple(d.id for d in devices))
+
+
+def load_executable(payload, in_tree, out_tree, device_ids):
+    """The ``jax.stages.Compiled`` that :func:`save_executable` gave the tuple for,
+    loaded onto the same devices of this process's backend."""
+    import jax
+    from jax.experimental import serialize_executable
+
+    by_id = {d.id: d for d in jax.local_devices()}
+    return serialize_executable.deserialize_and_load(
+        payload, in_tree, out_tree, execution_devices=[by_id[i] for i in device_ids])

@@ -1,0 +1,108 @@
+"""Compiled programs kept on disk (hga_jax.compiled): found again, never trusted blindly."""
+import json
+import os
+import subprocess
+import sys
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from hga_jax import compiled
+
+ROBOCUP = os.path.join(os.path.dirname(__file__), "..", "configs", "scenarios", "robocup_paper.toml")
+
+
+class Counted:
+    """``lower()`` for a small program, counting how often it was asked to compile."""
+
+    def __init__(self, scale: float):
+        self.calls, self.scale = 0, scale
+
+    def __call__(self):
+        self.calls += 1
+        return jax.jit(lambda x: jnp.sin(x) * self.scale).lower(np.zeros(5, np.float32))
+
+
+@pytest.fixture
+def folder(tmp_path):
+    before = compiled.folder()
+    compiled.use_folder(str(tmp_path))
+    compiled.forget()
+    yield tmp_path
+    compiled.forget()
+    compiled.use_folder(before)
+
+
+def _files(where):
+    return sorted(p.name for p in where.iterdir() if p.suffix == ".jaxprog")
+
+
+def test_a_stored_program_is_loaded_instead_of_compiled(folder):
+    x = np.linspace(0, 1, 5, dtype=np.float32)
+    first = Counted(3.0)
+    want = np.asarray(compiled.program(("test", 3.0), first)(x))
+    assert first.calls == 1 and len(_files(folder)) == 1
+    compiled.forget()  # a new process: nothing in memory
+    again = Counted(3.0)
+    got = np.asarray(compiled.program(("test", 3.0), again)(x))
+    assert again.calls == 0
+    np.testing.assert_array_equal(got, want)
+    np.testing.assert_allclose(got, np.sin(x) * 3.0, rtol=1e-6)
+    other = Counted(2.0)  # another key is another program
+    np.testing.assert_allclose(np.asarray(compiled.program(("test", 2.0), other)(x)),
+                               np.sin(x) * 2.0, rtol=1e-6)
+    assert other.calls == 1 and len(_files(folder)) == 2
+
+
+def test_a_damaged_file_is_compiled_again_and_replaced(folder):
+    x = np.ones(5, np.float32)
+    compiled.program(("damaged",), Counted(1.0))
+    (path,) = folder.iterdir()
+    path.write_bytes(b"not a program")
+    compiled.forget()
+    again = Counted(1.0)
+    np.testing.assert_allclose(np.asarray(compiled.program(("damaged",), again)(x)), np.sin(x),
+                               rtol=1e-6)
+    assert again.calls == 1 and path.stat().st_size > 100
+    compiled.forget()
+    third = Counted(1.0)
+    compiled.program(("damaged",), third)
+    assert third.calls == 0  # the replacement loads
+
+
+def test_keys_naming_objects_and_memory_only_programs_stay_off_disk(folder):
+    compiled.program(("object", object()), Counted(1.0))  # repr holds an address
+    compiled.program(("plugin",), Counted(1.0), disk=False)
+    assert _files(folder) == []
+
+
+def test_programs_of_user_operators_are_not_stored(registries):
+    from hga_jax.search import registry
+    from hga_jax.search.settings import GASettings
+
+    assert registry.builtin_only(GASettings())
+    assert registry.builtin_only(GASettings(perm_crossover="pmx", selection="tournament"))
+    registry.register("perm_mutation", "my_swap", registry.get("perm_mutation", "exchange"))
+    assert not registry.builtin_only(GASettings(perm_mutation="my_swap"))
+
+
+def test_a_run_with_stored_programs_is_the_same_run(tmp_path):
+    """A command-line run with an empty program folder, then one reading it: the same
+    runs, and the second stores nothing new (it found both programs)."""
+    env = {**os.environ, "JAX_PLATFORMS": "cpu", "HGA_JAX_CACHE_DIR": str(tmp_path / "cache")}
+    cmd = [sys.executable, "-m", "hga_jax", "run", ROBOCUP, "--runs", "3", "--preset", "paper",
+           "--generations", "4", "--quiet", "--no-exact"]
+    outs = []
+    for i in range(2):
+        subprocess.run(cmd + ["--out", str(tmp_path / f"r{i}")], env=env, check=True,
+                       capture_output=True)
+        outs.append(json.loads((tmp_path / f"r{i}" / "result.json").read_text()))
+        if i == 0:
+            stored = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "cache").iterdir()}
+    # the GA batch and the float64 decoder
+    assert len(stored) == 2
+    assert {p.name: p.stat().st_mtime_ns for p in (tmp_path / "cache").iterdir()}.keys() == stored.keys()
+    assert outs[0]["per_run"] == outs[1]["per_run"]
+    assert outs[0]["best"]["length"] == outs[1]["best"]["length"]
