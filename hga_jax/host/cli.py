@@ -33,6 +33,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import errno
+import functools
 import json
 import math
 import os
@@ -364,6 +365,11 @@ def _cmd_run(args) -> int:
                          validation.flag, grouped=True)
     joined = args.distributed or any(v is not None for v in (
         args.coordinator, args.num_processes, args.process_id))
+    if args.resume and joined:
+        raise ConfigError("command line: --resume: not with --distributed (resume on one "
+                          "process, or run the missing runs with --first-run)")
+    if args.resume and args.force:
+        raise ConfigError("command line: --resume: not with --force (--force starts over)")
     from hga_jax.running import distributed
 
     devices.from_option(args)  # before anything starts JAX's runtime
@@ -372,40 +378,69 @@ def _cmd_run(args) -> int:
                                source="command line")
     import jax
 
-    from hga_jax.running import budget
-    from hga_jax.host import report
-    from .output import check_folder
-
     out = args.out or _default_out(args.scenario)
-
-    if args.resume and joined:
-        raise ConfigError("command line: --resume: not with --distributed (resume on one "
-                          "process, or run the missing runs with --first-run)")
-    if args.resume and args.force:
-        raise ConfigError("command line: --resume: not with --force (--force starts over)")
-    prior = None
-
-    def check() -> None:  # the job must fit (each process holds the whole result)
-        nonlocal prior
-        budget.plan(scenario.n, settings, args.runs, args.chunk, jax.local_device_count())
-        if jax.process_index() != 0:  # the process that writes
-            return
-        if args.resume:
-            prior = report.load_partial(out, scenario, settings, args.seed, args.first_run,
-                                        args.runs)
-            return
-        part = None if args.force else report.partial_in(out)
-        if part is not None:
-            raise ConfigError(f"{out}: output folder: holds an interrupted run ({part['runs_done']:,} "
-                              f"of {part['runs_requested']:,} runs): add --resume to finish "
-                              "it, or --force to start over")
-        check_folder(out, args.force)
-
+    prior = []  # a resumed job's partial result: (document, runs)
+    check = functools.partial(_run_checks, args, scenario, settings, out, prior)
     distributed.together(check) if joined else check()
     _cache(args)
+    res = _search_runs(args, scenario, settings, out, prior[0] if prior else None, joined,
+                       plugins)
+    if jax.process_index() != 0:  # process 0 writes and prints the result
+        return 0
+    from hga_jax.host import report
+
+    with _ctrl_c_deferred():
+        written = report.write_run(res, out, plot=args.plot, force=args.force or args.resume)
+    if args.json:
+        _emit(json.dumps(report.run_json(res, written), allow_nan=False))
+    else:
+        _emit(report.run_summary(res))
+        _emit("wrote " + ", ".join(written))
+    return 0
+
+
+def _run_checks(args, scenario, settings, out: str, prior: list) -> None:
+    """Before a run searches: the job fits in memory (each process holds the whole
+    result), and (on the process that writes) the output folder takes it: empty, or
+    replaced with --force, or holding the partial result that --resume finishes
+    (appended to ``prior``)."""
+    import jax
+
+    from hga_jax.host import report
+    from hga_jax.running import budget
+    from .output import check_folder
+
+    budget.plan(scenario.n, settings, args.runs, args.chunk, jax.local_device_count())
+    if jax.process_index() != 0:
+        return
+    if args.resume:
+        prior.append(report.load_partial(out, scenario, settings, args.seed, args.first_run,
+                                         args.runs))
+        return
+    part = None if args.force else report.partial_in(out)
+    if part is not None:
+        raise ConfigError(f"{out}: output folder: holds an interrupted run ({part['runs_done']:,} "
+                          f"of {part['runs_requested']:,} runs): add --resume to finish "
+                          "it, or --force to start over")
+    check_folder(out, args.force)
+
+
+def _search_runs(args, scenario, settings, out: str, prior, joined: bool, plugins):
+    """The runs still to do (all, or those after a resumed partial result ``prior``),
+    joined with ``prior``'s. Interrupted, the finished runs are written as a partial
+    result that ``--resume`` finishes (a single process only) before the interruption
+    is passed on."""
+    from hga_jax.host import report
     from hga_jax.running.runner import joined as join_runs, resumed, run_many
 
     done = 0 if prior is None else int(prior[0]["partial"]["runs_done"])
+
+    def with_prior(res):
+        if prior is None:
+            return res
+        return join_runs([resumed(scenario, settings, args.seed, args.first_run, prior[1], res),
+                          res])
+
     try:
         res = run_many(scenario, settings, seed=args.seed, runs=args.runs - done,
                        first_run=args.first_run + done, chunk=args.chunk,
@@ -416,29 +451,16 @@ def _cmd_run(args) -> int:
             raise Interrupted(f"{e}; the partial result written in {out} is as it was") from None
         if part is None or joined:
             raise
-        if prior is not None:
-            part = join_runs([resumed(scenario, settings, args.seed, args.first_run, prior[1],
-                                      part), part])
+        part = with_prior(part)
         part.plugins = tuple(plugins)
         with _ctrl_c_deferred():
             report.write_partial(part, out, args.runs, force=True)
         raise Interrupted(f"{e}; the {len(part.length):,} finished runs of {args.runs:,} are "
                           f"written in {out} (the same command with --resume finishes the "
                           "job)") from None
-    if prior is not None:
-        res = join_runs([resumed(scenario, settings, args.seed, args.first_run, prior[1], res),
-                         res])
+    res = with_prior(res)
     res.plugins = tuple(plugins)
-    if jax.process_index() != 0:  # process 0 writes and prints the result
-        return 0
-    with _ctrl_c_deferred():
-        written = report.write_run(res, out, plot=args.plot, force=args.force or args.resume)
-    if args.json:
-        _emit(json.dumps(report.run_json(res, written), allow_nan=False))
-    else:
-        _emit(report.run_summary(res))
-        _emit("wrote " + ", ".join(written))
-    return 0
+    return res
 
 
 def _cmd_exact(args) -> int:
