@@ -135,7 +135,7 @@ def test_a_study_with_every_solver_judges_ompl_paths_by_the_model(tmp_path):
     opt = solve(scene).length
     rows = {r["config"]: r for r in out.summary}
     assert set(rows) == {"HGA paper", "random", "HGA alone", "exact", "DEAP", "BIT*"}
-    assert {r["group"] for r in out.summary} == {"files"}
+    assert {r["group"] for r in out.summary} == {scene.name}  # the scene file's own group
     assert rows["exact"]["hit_rate"] == 1.0 and rows["exact"]["runs"] == 1
     assert rows["HGA alone"]["runs"] == 2 and rows["DEAP"]["runs"] == 2
     tab = out.table

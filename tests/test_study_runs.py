@@ -80,13 +80,24 @@ def test_reproduce_paper_quick_table_is_right_run_by_run(paper_quick):
         assert [int(r["generation_best"]) for r in mine] == res.generation.tolist()
 
 
+def test_reproduce_paper_quick_summary_states_what_was_run(paper_quick):
+    text = (paper_quick / "summary.md").read_text()
+    assert "Seed 0: run k of every cell is run k of this seed." in text
+    assert ("Scenes (3): scene files: robocup_paper (9 obstacles); family obstructed9: "
+            "2 with 9 obstacles.") in text
+    # the quick budget: population 50, 30 generations, 40 runs per scene
+    assert "population 50, 30 generations: 1,550 evaluations" in text
+    assert "40 runs per scene" in text
+
+
 def test_reproduce_paper_quick_summary_and_claims(paper_quick):
     rows = _csv(paper_quick / "runs.csv")
     summary = _csv(paper_quick / "summary.csv")
-    assert [(s["group"], s["config"]) for s in summary] == [("files", "paper"),
+    # a scene file is a group of its own, named by its scenario
+    assert [(s["group"], s["config"]) for s in summary] == [("robocup_paper", "paper"),
                                                              ("obstructed9", "paper")]
     for s in summary:
-        mine = [r for r in rows if r["family"] == s["group"]]
+        mine = [r for r in rows if r["group"] == s["group"]]
         hits = sum(r["hit"] == "True" for r in mine)
         assert int(s["runs"]) == len(mine) and float(s["hit_rate"]) == hits / len(mine)
         lo, hi = stats.wilson(hits, len(mine))

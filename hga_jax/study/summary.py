@@ -171,11 +171,14 @@ NOTES = (
 def setup(study, scenes, docs: list[dict[str, Any]]) -> str:
     """What was run, in words: seeds, runs, scenes per family, each configuration's budget."""
     fams: dict[str, dict[int, int]] = {}
+    files = [f"{sc.name} ({sc.scenario.n} obstacles)" for sc in scenes if sc.family == "files"]
     for sc in scenes:
-        fams.setdefault(sc.family, {}).setdefault(sc.scenario.n, 0)
-        fams[sc.family][sc.scenario.n] += 1
-    fam = "; ".join(f"{f}: " + ", ".join(f"{k} with {n} obstacles" for n, k in sorted(c.items()))
-                    for f, c in fams.items())
+        if sc.family != "files":
+            fams.setdefault(sc.family, {}).setdefault(sc.scenario.n, 0)
+            fams[sc.family][sc.scenario.n] += 1
+    fam = "; ".join(([f"scene files: {', '.join(files)}"] if files else []) + [
+        f"family {f}: " + ", ".join(f"{k} with {n} obstacles" for n, k in sorted(c.items()))
+        for f, c in fams.items()])
     lines = [f"Seed {study.seed}: run k of every cell is run k of this seed. Scenes "
              f"({len(scenes)}): {fam}. Gaps are to the "
              f"{'free-turn' if study.yardstick == 'free' else 'tight-rope'} optimum.", "",

@@ -74,26 +74,28 @@ def build(study: str, docs: Iterable[dict[str, Any]]) -> pd.DataFrame:
             v.extend(row.get(k, [None] * n))
         done += n
     if done:
-        parts["group"] = group_labels(parts["family"], parts["obstacles"])
+        parts["group"] = group_labels(parts["family"], parts["obstacles"], parts["scenario"])
     order = list(ID_COLUMNS) + ["run"] + settings_keys + [
         k for k in parts if k not in ID_COLUMNS and k != "run" and k not in settings_keys]
     return pd.DataFrame({k: _column(parts[k]) for k in order if k in parts})
 
 
-def group_labels(families: list, obstacles: list) -> list[str]:
+def group_labels(families: list, obstacles: list, scenarios: list) -> list[str]:
     """The group of each row: its family, and its obstacle count where the family has
     several (``"obstructed, 15 obstacles"``), so that no summary or figure pools
-    scenes of different sizes."""
+    scenes of different sizes; a scene file of the study (family ``"files"``) is a
+    group of its own, named by its scenario (``"robocup_paper"``)."""
     counts: dict[Any, set] = {}
     for f, n in zip(families, obstacles):
         counts.setdefault(f, set()).add(n)
-    return [f if len(counts[f]) == 1 else f"{f}, {n} obstacles"
-            for f, n in zip(families, obstacles)]
+    return [s if f == "files" else f if len(counts[f]) == 1 else f"{f}, {n} obstacles"
+            for f, n, s in zip(families, obstacles, scenarios)]
 
 
 def doc_groups(docs: list[dict[str, Any]]) -> list[str]:
     """:func:`group_labels` of cell documents, one per document."""
-    return group_labels([d["family"] for d in docs], [d["obstacles"] for d in docs])
+    return group_labels([d["family"] for d in docs], [d["obstacles"] for d in docs],
+                        [d["scenario"] for d in docs])
 
 
 def numeric(table: pd.DataFrame, name: str) -> np.ndarray:
