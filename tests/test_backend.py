@@ -56,6 +56,26 @@ def test_the_command_chooses_agg():
     assert (out["before"], out["after"].lower(), out["code"]) == ("svg", "agg", 0)
 
 
+
+def test_a_command_that_draws_nothing_does_not_import_matplotlib(tmp_path):
+    """``check`` and ``exact`` without plots leave matplotlib unimported (it costs a
+    start-up); drawing later still uses Agg, whatever MPLBACKEND the shell had."""
+    out = _python(f"""
+        import json, os, sys
+        os.environ["MPLBACKEND"] = "TkAgg"  # interactive: would need a display
+        from hga_jax.host.cli import main
+        codes = [main(["check", {ROBOCUP!r}]),
+                 main(["exact", {ROBOCUP!r}, "--out", {str(tmp_path / "a")!r}, "--no-cache"])]
+        before = "matplotlib" in sys.modules
+        codes.append(main(["exact", {ROBOCUP!r}, "--out", {str(tmp_path / "b")!r}, "--plot",
+                           "--no-cache"]))
+        import matplotlib
+        print(json.dumps({{"before": before, "codes": codes, "backend": matplotlib.get_backend()}}))
+    """)
+    assert out["codes"] == [0, 0, 0] and out["before"] is False
+    assert out["backend"].lower() == "agg"
+    assert (tmp_path / "b" / "path.png").stat().st_size > 10_000
+
 FIGURES = """
     import json, os, sys
     import matplotlib

@@ -631,10 +631,13 @@ COMMANDS: dict[str, Callable[[Any], int]] = {
 def _use_file_backend() -> None:
     """The command draws to files only: matplotlib's Agg backend, chosen here and
     nowhere in the library (its figures are ``Figure`` objects that need none), so
-    importing ``hga_jax`` in a notebook leaves that notebook's backend alone."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+    importing ``hga_jax`` in a notebook leaves that notebook's backend alone. Not
+    imported yet, matplotlib is told through its environment variable, so that a
+    command that draws nothing does not import it."""
+    if "matplotlib" in sys.modules:
+        sys.modules["matplotlib"].use("Agg")
+    else:
+        os.environ["MPLBACKEND"] = "Agg"
 
 
 def _terminated(signum, frame):  # SIGTERM stops a command as Ctrl-C does
