@@ -30,7 +30,7 @@ from typing import Any, Callable
 _RECENT: dict[str, Any] = {}
 _RECENT_KEEP = 16
 _FOLDER: list[str | None] = [None]
-_KEEP_FILES = 256  # programs on disk; the least recently used go first
+_KEEP_BYTES = 512 * 2**20  # the folder's size; the least recently used programs go first
 _FINGERPRINT: list[str] = []
 
 
@@ -153,14 +153,23 @@ def _store(path: str, compiled: Any) -> None:
 
 
 def _prune(where: str) -> None:
-    files = [os.path.join(where, f) for f in os.listdir(where) if f.endswith(".jaxprog")
-             and not f.startswith(".")]
-    if len(files) <= _KEEP_FILES:
-        return
-    files.sort(key=lambda f: os.stat(f).st_mtime)
-    for f in files[:len(files) - _KEEP_FILES]:
+    """Remove the least recently used programs while the folder holds more than
+    :data:`_KEEP_BYTES` of them (a GA program is 0.5-5 MB)."""
+    files = []
+    for f in os.listdir(where):
+        if f.endswith(".jaxprog") and not f.startswith("."):
+            try:
+                st = os.stat(os.path.join(where, f))
+            except OSError:
+                continue
+            files.append((st.st_mtime, st.st_size, os.path.join(where, f)))
+    total = sum(size for _, size, _ in files)
+    for _, size, path in sorted(files):
+        if total <= _KEEP_BYTES:
+            break
         try:
-            os.remove(f)
+            os.remove(path)
+            total -= size
         except OSError:
             pass
 

@@ -106,3 +106,20 @@ def test_a_run_with_stored_programs_is_the_same_run(tmp_path):
     assert {p.name: p.stat().st_mtime_ns for p in (tmp_path / "cache").iterdir()}.keys() == stored.keys()
     assert outs[0]["per_run"] == outs[1]["per_run"]
     assert outs[0]["best"]["length"] == outs[1]["best"]["length"]
+
+
+def test_the_folder_keeps_its_size_by_dropping_the_least_recently_used(folder, monkeypatch):
+    name = {}
+    for k in range(3):
+        before = set(_files(folder))
+        compiled.program(("size", k), Counted(float(k + 1)))
+        (name[k],) = set(_files(folder)) - before
+        os.utime(folder / name[k], (1000.0 * (k + 1), 1000.0 * (k + 1)))  # 0 oldest, 2 newest
+    compiled.forget()
+    compiled.program(("size", 0), Counted(1.0))  # loaded from disk: now the most recent
+    biggest = max((folder / f).stat().st_size for f in name.values())
+    monkeypatch.setattr(compiled, "_KEEP_BYTES", 2 * biggest + 1)
+    before = set(_files(folder))
+    compiled.program(("size", 3), Counted(4.0))  # a fourth program: over the size
+    (name[3],) = set(_files(folder)) - before
+    assert sorted(_files(folder)) == sorted([name[0], name[3]])  # 1 and 2 went first
