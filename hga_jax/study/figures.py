@@ -50,6 +50,15 @@ def _colours(n: int):
     return [cmap(order[i % 20]) for i in range(n)]
 
 
+def _lines(configs: list[str]) -> dict[str, dict[str, Any]]:
+    """A line style per configuration, every one told apart: tab10's colours, solid
+    for the first ten, then dashed, dotted and dash-dotted (40 in all, then again)."""
+    cmap = matplotlib.colormaps["tab10"]
+    dashes = ("-", "--", ":", "-.")
+    return {c: {"color": cmap(i % 10), "ls": dashes[(i // 10) % 4]}
+            for i, c in enumerate(configs)}
+
+
 def panels(count: int, height: float = 2.4):
     """A figure a journal page wide (7.2 in) with ``count`` panels, at most three a row,
     sharing both axes; returns ``(figure, axes)`` with the unused axes hidden."""
@@ -121,14 +130,14 @@ def gap_ecdf(table: pd.DataFrame, configs: list[str], path: str) -> str:
     fig, axes = panels(len(groups))
     gap = 100 * numeric(table, "gap")
     grid = np.logspace(np.log10(100 * GAP_FLOOR), 2, 300)  # 0.01% to 100%
-    colours = dict(zip(configs, _colours(len(configs))))
+    lines = _lines(configs)
     handles = {}
     for ax, g in zip(axes, groups):
         for c in configs:
             m = (group == g) & (config == c)
             if m.any():
                 (line,) = ax.step(grid, stats.ecdf(np.maximum(gap[m], grid[0]), grid),
-                                  where="post", color=colours[c], label=c, lw=1.2)
+                                  where="post", **lines[c], label=c, lw=1.2)
                 handles[c] = line
         _style(ax, g, "final gap to the optimum (%)")
     return _finish(fig, axes, handles, "fraction of runs within", "Final gaps (left end: gap "
@@ -157,7 +166,7 @@ def _ecdf_panels(table: pd.DataFrame, configs: list[str], targets, grid, xlabel:
     groups = list(dict.fromkeys(group.tolist()))
     fig, axes = subplots(len(groups), len(targets), figsize=(7.2, 1.2 + 2.5 * len(groups)),
                          sharex=True, sharey=True, squeeze=False, layout="constrained")
-    colours = dict(zip(configs, _colours(len(configs))))
+    lines = _lines(configs)
     handles = {}
     for i, (row, g) in enumerate(zip(axes, groups)):
         for ax, (values, title) in zip(row, targets):
@@ -165,7 +174,7 @@ def _ecdf_panels(table: pd.DataFrame, configs: list[str], targets, grid, xlabel:
                 m = (group == g) & (config == c)
                 if m.any():
                     (line,) = ax.step(grid, stats.ecdf(values[m], grid), where="post",
-                                      color=colours[c], label=c, lw=1.2)
+                                      **lines[c], label=c, lw=1.2)
                     handles[c] = line
             _style(ax, f"{g}: {title}", xlabel if i == len(groups) - 1 else "", xlog)
         row[0].set_ylabel("fraction of runs", fontsize=8)
@@ -179,7 +188,7 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
     docs = [dict(d, family=g) for d, g in zip(docs, labels)]  # grouped by family and size
     groups = list(dict.fromkeys(labels))
     fig, axes = panels(len(groups))
-    colours = dict(zip(configs, _colours(len(configs))))
+    lines = _lines(configs)
     handles = {}
     for ax, group in zip(axes, groups):
         for c in configs:
@@ -194,7 +203,7 @@ def convergence(docs: list[dict[str, Any]], configs: list[str], path: str) -> st
             med = np.median([list(v) + [v[-1]] * (longest - len(v)) for v in curves], axis=0)
             pop = ds[0]["settings"]["population"]
             (line,) = ax.plot(pop * (np.arange(len(med)) + 1), 100 * np.maximum(med, GAP_FLOOR),
-                              color=colours[c], label=c, lw=1.2)
+                              **lines[c], label=c, lw=1.2)
             handles[c] = line
         ax.set_yscale("log")
         _style(ax, group, "evaluations")
@@ -210,7 +219,7 @@ def anytime(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
     docs = [dict(d, family=g) for d, g in zip(docs, labels)]  # grouped by family and size
     groups = list(dict.fromkeys(labels))
     fig, axes = panels(len(groups))
-    colours = dict(zip(configs, _colours(len(configs))))
+    lines = _lines(configs)
     handles, lowest, times = {}, 0.0, []
     for ax, group in zip(axes, groups):
         for c in configs:
@@ -229,12 +238,12 @@ def anytime(docs: list[dict[str, Any]], configs: list[str], path: str) -> str:
                 lowest = min(lowest, float(np.nanmin(q)))
                 times += [float(GRID[keep][0]), float(end)] if keep.any() else []
             if ds[0].get("solver") == "exact":  # one answer, at its solve time
-                (line,) = ax.plot([end], [0.0], "*", color=colours[c], ms=9, label=c)
+                (line,) = ax.plot([end], [0.0], "*", color=lines[c]["color"], ms=9, label=c)
                 times.append(end)
                 handles[c] = line
                 continue
-            (line,) = ax.plot(GRID, q[1], color=colours[c], lw=1.3, label=c)
-            ax.fill_between(GRID, q[0], q[2], color=colours[c], alpha=0.15, lw=0)
+            (line,) = ax.plot(GRID, q[1], **lines[c], lw=1.3, label=c)
+            ax.fill_between(GRID, q[0], q[2], color=lines[c]["color"], alpha=0.15, lw=0)
             handles[c] = line
         ax.axhline(0, color="0.4", lw=0.6, ls=":")
         ax.set_yscale("symlog", linthresh=0.1)
