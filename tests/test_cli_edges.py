@@ -44,17 +44,19 @@ def test_empty_files_are_named_as_empty(tmp_path, capsys):
         load_study(str(empty))
 
 
-def _study_file(tmp_path, full_op="pmx"):
+def _study_file(tmp_path, second='perm_crossover = "pmx"'):
+    """A study of the paper's GA whose full grid adds a configuration (``second``) to
+    the quick one's."""
     path = tmp_path / "s.toml"
     path.write_text(f'name = "s"\nruns = 2\nscenarios = ["{PAPER_SCENE}"]\n[ga]\ngenerations = 2\n'
                     '[[configs]]\nlabel = "paper"\n'
-                    f'[[configs]]\nperm_crossover = "{full_op}"\n'
+                    f'[[configs]]\n{second}\n'
                     '[quick]\nruns = 2\nconfigs = [{ label = "paper" }]\n')
     return str(path)
 
 
 def test_quick_checks_the_whole_grid_before_anything_runs(tmp_path):
-    path = _study_file(tmp_path, full_op="ox9")
+    path = _study_file(tmp_path, second='perm_crossover = "ox9"')
     with pytest.raises(ConfigError) as e:
         load_study(path, quick=True)
     assert str(e.value).startswith(f"{path}: configs[2].perm_crossover: must be one of")
@@ -63,7 +65,8 @@ def test_quick_checks_the_whole_grid_before_anything_runs(tmp_path):
 
 
 def test_study_output_folder_rules(tmp_path, capsys):
-    path = _study_file(tmp_path)
+    # the full grid's second configuration runs the same program (one compile)
+    path = _study_file(tmp_path, second='label = "paper, 1 run"\nruns = 1')
     run_folder = tmp_path / "a_run"
     assert main(["exact", PAPER_SCENE, "--out", str(run_folder), "--quiet"]) == 0
     capsys.readouterr()

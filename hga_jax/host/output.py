@@ -144,6 +144,21 @@ def csv_writer(rows: list[dict[str, Any]]) -> Writer:
 
 
 def figure_writer(fig: Any, dpi: int = 140, format: str = "png") -> Writer:
-    """A writer of a matplotlib figure as PNG (or ``format``: ``"pdf"``, ``"svg"``)."""
-    return lambda fh: fig.savefig(fh, dpi=dpi, format=format, bbox_inches="tight",
-                                  pad_inches=0.05)
+    """A writer of a matplotlib figure as PNG (or ``format``: ``"pdf"``, ``"svg"``),
+    cropped to what is drawn. A figure with constrained layout already fits its page:
+    its layout is worked out once, on the first write, and then kept (matplotlib would
+    work it out again on every write, twice when cropping), so each format is drawn
+    once."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine, PlaceHolderLayoutEngine
+
+    def write(fh) -> None:
+        engine = fig.get_layout_engine()
+        if isinstance(engine, ConstrainedLayoutEngine):
+            fig.draw_without_rendering()
+            fig.set_layout_engine("none")  # the positions just found stay
+        elif not isinstance(engine, PlaceHolderLayoutEngine):
+            fig.savefig(fh, dpi=dpi, format=format, bbox_inches="tight", pad_inches=0.05)
+            return
+        fig.savefig(fh, dpi=dpi, format=format)
+
+    return write
