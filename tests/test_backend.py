@@ -9,6 +9,8 @@ import subprocess
 import sys
 import textwrap
 
+import pytest
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROBOCUP = os.path.join(ROOT, "configs", "scenarios", "robocup_paper.toml")
 
@@ -124,6 +126,7 @@ FIGURES = """
 """
 
 
+@pytest.mark.slow  # no display: test_a_command_that_draws_nothing_does_not_import_matplotlib (a plot)
 def test_figures_save_pngs_with_no_display(tmp_path):
     code = FIGURES.replace("sys.argv[1]", repr(str(tmp_path))).replace("sys.argv[2]", repr(ROBOCUP))
     out = _python(code)

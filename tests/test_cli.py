@@ -304,6 +304,7 @@ def test_closed_or_full_stdout_costs_no_result(tmp_path):
         assert (tmp_path / "b" / "result.json").exists()
 
 
+@pytest.mark.slow  # interruption stays in the default lane: test_resume.py (Ctrl-C and SIGTERM)
 def test_ctrl_c_stops_a_long_run_promptly_and_writes_nothing(tmp_path):
     import signal
     import time

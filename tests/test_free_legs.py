@@ -45,7 +45,9 @@ def _genes(rng, count, n):
     return rng.integers(0, 3, (count, n + 2)).astype(np.int32)
 
 
-@pytest.mark.parametrize("name, sc", SCENES, ids=[s[0] for s in SCENES])
+@pytest.mark.parametrize("name, sc", [  # two scenes in the default lane, the rest on demand
+    pytest.param(*s, marks=pytest.mark.slow) if s[0] not in ("loop", "grid0") else s
+    for s in SCENES], ids=[s[0] for s in SCENES])
 def test_turn_table_with_leg_genes_equals_the_decoder(name, sc):
     rng = np.random.default_rng(3)
     perm, labels = _families.chromosomes(rng, sc.n, 400)
@@ -125,6 +127,7 @@ def test_recommended_ga_with_free_turns_hits_the_loop():
     assert res.best.length == pytest.approx(res.optimum_length, abs=1e-9)
 
 
+@pytest.mark.slow  # a quality check; test_recommended_ga_with_free_turns_hits_the_loop stays
 def test_free_turns_keep_the_hits_where_the_tight_rope_is_optimal():
     # On the bundled RoboCup scene no free turn shortens the optimum: leg genes must
     # not cost the recommended HGA its hits (uniform fresh genes hit 92 % here).

@@ -306,6 +306,7 @@ def test_run_measures_gaps_against_the_free_turn_optimum(tmp_path):
         run_many(sc, dataclasses.replace(res.settings, collision="paper"), turns="free")
 
 
+@pytest.mark.slow  # a study run; the free-turn optimum's own tests stay in the default lane
 def test_a_study_can_take_the_free_turn_optimum_as_its_yardstick(tmp_path):
     from hga_jax.errors import ConfigError
     from hga_jax.study.config import load_study

@@ -175,6 +175,7 @@ def test_sharding_over_two_devices_gives_the_same_runs():
     assert outs[0][1:] == outs[1][1:]
 
 
+@pytest.mark.slow  # test_blocks_equal_one_scan_and_run_batch_takes_a_list stays in the default lane
 def test_one_compiled_generation_equals_the_scanned_one(robocup):
     import jax
 

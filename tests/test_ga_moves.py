@@ -23,6 +23,7 @@ def _same_runs(a, b, rows_a, rows_b):
         assert np.array_equal(a.history[h][:, rows_a], b.history[h][:, rows_b]), h
 
 
+@pytest.mark.slow  # alone = batch stays in the default lane: test_ga.py's run-k and large-scene tests
 def test_recommended_run_alone_is_its_row_of_a_batch(robocup):
     s = RECOMMENDED.replace(generations=12, restart_after=3)
     whole = run_many(robocup, s, seed=2, runs=12, exact=False)

@@ -271,8 +271,12 @@ def test_registry_holds_the_documented_moves():
                                                      "repair", "mixed", "guided"}
 
 
-@pytest.mark.parametrize("scene", list(SCENES))
-@pytest.mark.parametrize("name", sorted(registry.names("path_mutation")[1:]))
+@pytest.mark.parametrize("name, scene", [  # the composite moves on 30 obstacles on demand
+    # (-m slow); every move on one and nine obstacles, and the simple ones on 30, by default
+    pytest.param(n, s, marks=pytest.mark.slow)
+    if n in ("guided", "mixed") and SCENES[s][0] == 30 else (n, s)
+    for s in SCENES for n in sorted(registry.names("path_mutation")[1:])],
+    ids=lambda v: str(v))
 def test_every_move_keeps_chromosomes_valid_and_does_what_it_says(scenes, name, scene):
     sc, legs = scenes[scene]
     n = SCENES[scene][0]

@@ -81,6 +81,7 @@ def test_run_with_plugin_operators_records_them_and_is_reproducible(tmp_path, pl
     assert _runs(cx) != _runs(doc)
 
 
+@pytest.mark.slow  # plugin runs stay in the default lane: test_run_with_plugin_operators_...
 def test_a_plugin_operator_never_applied_leaves_the_runs_as_they_were(tmp_path, plugins):
     # pc_upper = 0: the crossover is never applied; a registered operator draws its
     # keys from rows of its own, so every other draw, and every run, is unchanged.

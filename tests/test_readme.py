@@ -88,7 +88,10 @@ def test_commands_in_the_documents_parse_and_name_real_files():
                             assert (ROOT / w).is_file(), f"{_name(page)}: {w}"
 
 
-@pytest.mark.parametrize("page", [p for p in PAGES if _blocks(p, "python")], ids=_name)
+@pytest.mark.parametrize("page", [  # README.md's snippets in the default lane; docs/python.md's
+    # run long GA batches (on demand, with -m slow)
+    pytest.param(p, marks=pytest.mark.slow) if _name(p) == "docs/python.md" else p
+    for p in PAGES if _blocks(p, "python")], ids=_name)
 def test_python_snippets_run_as_written(page, tmp_path, monkeypatch, registries):
     (tmp_path / "configs").symlink_to(ROOT / "configs")
     monkeypatch.chdir(tmp_path)

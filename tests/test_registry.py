@@ -229,6 +229,7 @@ def test_user_selection_option_is_passed():
     np.testing.assert_array_equal(labels, np.tile(np.asarray(old.labels)[best], (8, 1)))
 
 
+@pytest.mark.slow  # user operators in a batch stay in the default lane: test_plugins.py's run test
 def test_run_batch_with_user_operators(robocup):
     sa = robocup.search_arrays()
 

@@ -124,6 +124,7 @@ def test_reproduce_paper_quick_summary_and_claims(paper_quick):
         assert (paper_quick / "figures" / f"{png}.png").read_bytes()[:4] == b"\x89PNG"
 
 
+@pytest.mark.slow  # a bundled study's quick run; reproduce_paper's quick run stays in the default lane
 def test_operator_study_quick_compares_with_holm(tmp_path):
     assert _study("operator_study", "--quick", "--out", str(tmp_path), "--quiet") == 0
     rows = _csv(tmp_path / "runs.csv")
@@ -146,6 +147,7 @@ def test_operator_study_quick_compares_with_holm(tmp_path):
     assert "Mann-Whitney U (gap), Holm" in md and "Fisher exact (hits), Holm" in md
 
 
+@pytest.mark.slow  # a bundled study's quick run (see test_operator_study_quick_compares_with_holm)
 def test_penalty_and_collision_quick_counts_accepted_collisions(tmp_path):
     assert _study("penalty_and_collision", "--quick", "--out", str(tmp_path), "--quiet") == 0
     rows = _csv(tmp_path / "runs.csv")
@@ -167,6 +169,7 @@ def test_penalty_and_collision_quick_counts_accepted_collisions(tmp_path):
             assert len(bad) == 0
 
 
+@pytest.mark.slow  # a bundled study's quick run (see test_operator_study_quick_compares_with_holm)
 def test_scaling_quick_reports_times(tmp_path):
     assert _study("scaling", "--quick", "--out", str(tmp_path), "--quiet") == 0
     table = _csv(tmp_path / "scaling.csv")
