@@ -63,7 +63,9 @@ def test_turn_table_with_leg_genes_equals_the_decoder(name, sc):
     np.testing.assert_array_equal(np.asarray(viol), np.asarray(d.violations))
 
 
-@pytest.mark.parametrize("name, sc", SCENES, ids=[s[0] for s in SCENES])
+@pytest.mark.parametrize("name, sc", [  # two scenes in the default lane, the rest on demand
+    pytest.param(*s, marks=pytest.mark.slow) if s[0] not in ("loop", "grid0") else s
+    for s in SCENES], ids=[s[0] for s in SCENES])
 def test_gene_zero_is_the_tight_rope_where_the_tight_rope_is_clear(name, sc):
     rng = np.random.default_rng(5)
     perm, labels = _families.chromosomes(rng, sc.n, 400)

@@ -268,6 +268,7 @@ pc_upper = 1.0
 """
 
 
+@pytest.mark.slow  # a study with a plugin operator stays in the default lane: test_plugins.py
 def test_an_operator_registered_outside_the_package_takes_part(tmp_path, registries):
     (tmp_path / "my_ops.py").write_text(PLUGIN)
     cfg = tmp_path / "custom.toml"
