@@ -394,8 +394,9 @@ def test_check_reports_every_file(tmp_path, capsys):
     ga = _write(tmp_path, "population = 20\nselection = \"tournament\"\n", "ga.toml")
     assert main(["check", good, bad, ROBOCUP, "--ga", ga]) == 2
     out, err = capsys.readouterr()
-    assert out.splitlines() == [f"{good}: ok (scenario tiny, 1 obstacle)",
-                                f"{ROBOCUP}: ok (scenario robocup_paper, 9 obstacles)",
+    path = ", a feasible path exists under collision full)"
+    assert out.splitlines() == [f"{good}: ok (scenario tiny, 1 obstacle{path}",
+                                f"{ROBOCUP}: ok (scenario robocup_paper, 9 obstacles{path}",
                                 f"{ga}: ok (GA settings: population = 20, selection = tournament)"]
     assert err.splitlines() == [f"hga-jax: error: {bad}: robot.radius: must be > 0, got 0.0"]
     assert main(["check", good, "--ga", _write(tmp_path, "elites = 60\n", "g2.toml")]) == 2

@@ -76,10 +76,12 @@ def test_study_output_folder_rules(tmp_path, capsys):
     a_file = tmp_path / "a_file"
     a_file.write_text("x")
     assert main(["study", path, "--quick", "--out", str(a_file), "--quiet"]) == 2
-    assert "exists and is not a folder" in _err_lines(capsys)[0]
+    assert "exists and is a file, not a folder" in _err_lines(capsys)[0]
     out = tmp_path / "study_out"
     assert main(["study", path, "--quick", "--out", str(out), "--quiet"]) == 0
-    assert "1 run now" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "1 run now" in said and "|" not in said and "hit rate" not in said  # no table
+    assert said.rstrip().endswith(f"the tests and the notes: {out / 'summary.md'}")
     assert main(["study", path, "--quick", "--out", str(out), "--quiet"]) == 0  # resumed
     assert "(0 run now, 1 already done)" in capsys.readouterr().out
     # the full study is another study: refused, then replaced with --force

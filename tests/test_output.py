@@ -71,8 +71,11 @@ def test_check_folder_creates_nothing_and_names_the_problem(tmp_path):
     check_folder(str(tmp_path / "a" / "b"), force=False)
     assert not (tmp_path / "a").exists()
     (tmp_path / "file").write_text("x")
-    with pytest.raises(ConfigError, match="file: output folder: exists and is not a folder"):
+    with pytest.raises(ConfigError, match="file: output folder: exists and is a file, not a folder"):
         check_folder(str(tmp_path / "file"), force=True)
+    with pytest.raises(ConfigError, match=r"file/sub: output folder: .*file is a file, not a "
+                       "folder, so nothing can be made under it"):
+        check_folder(str(tmp_path / "file" / "sub"), force=False)
     if os.geteuid() != 0:  # root may write anywhere
         ro = tmp_path / "ro"
         ro.mkdir(mode=0o555)

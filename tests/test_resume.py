@@ -67,14 +67,26 @@ def test_an_interrupted_run_keeps_its_batches_and_resume_gives_the_same_runs(
     capsys.readouterr()
     assert _run(out, "--resume") == 0
     final = _result(out)
+    kept = final["summary"]["resumed"]
+    assert kept["runs"] == _result_runs_before(done)
+    assert 0 < kept["search_s"] <= final["summary"]["search_s"]
+    said = capsys.readouterr().out
+    assert (f"; compile and search include the {kept['runs']} runs kept from the interrupted "
+            f"command ({kept['compile_s']:.2f} s and {kept['search_s']:.2f} s there; ") in said
     assert "partial" not in final and not (out / "partial.npz").exists()
     for key in ("per_run", "best", "runs", "seed", "settings"):
         assert final[key] == whole[key], key
     timeless = lambda d: {k: v for k, v in d.items() if k != "seconds"}  # noqa: E731
     assert timeless(final["optimum"]) == timeless(whole["optimum"])
+    assert "resumed" not in whole["summary"]
     for key in ("best_length", "runs_found_best", "median_generation_found_best"):
         assert final["summary"][key] == whole["summary"][key], key
     assert (out / "history.csv").read_text() == (ref / "history.csv").read_text()
+
+
+def _result_runs_before(done: int) -> int:
+    """Runs kept before the last resume: 4 when the first resume was interrupted too."""
+    return 4 if done == 2 else done
 
 
 def test_resume_refuses_another_job(tmp_path, capsys, monkeypatch):
@@ -88,4 +100,11 @@ def test_resume_refuses_another_job(tmp_path, capsys, monkeypatch):
     assert main(["run", SCENE, *JOB[:-4], "--seed", "6", "--quiet", "--no-cache", "--out",
                  str(out), "--resume"]) == 2
     line = capsys.readouterr().err.strip()
-    assert "--resume: the partial result was not made by this command (its seed differs)" in line
+    assert ("--resume: the partial result was not made by this command: its seed is 5, this "
+            "command's is 6;") in line
+    # a setting: named, with both values
+    assert _run(out, "--resume", "--pc-upper", "0.5") == 2
+    line = capsys.readouterr().err.strip()
+    assert "its settings.pc_upper is 0.4, this command's is 0.5;" in line
+    assert main(["run", SCENE, *JOB[:1], "8", *JOB[2:], "--out", str(out), "--resume"]) == 2
+    assert "its runs is 6, this command's is 8;" in capsys.readouterr().err

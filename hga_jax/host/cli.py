@@ -438,8 +438,10 @@ def _search_runs(args, scenario, settings, out: str, prior, joined: bool, plugin
     def with_prior(res):
         if prior is None:
             return res
-        return join_runs([resumed(scenario, settings, args.seed, args.first_run, prior[1], res),
-                          res])
+        kept = resumed(scenario, settings, args.seed, args.first_run, prior[1], res)
+        whole = join_runs([kept, res])
+        whole.earlier = {"runs": done, "compile_s": kept.compile_s, "search_s": kept.search_s}
+        return whole
 
     try:
         res = run_many(scenario, settings, seed=args.seed, runs=args.runs - done,
@@ -497,18 +499,25 @@ def _cmd_check(args) -> int:
     for path in args.scenario:
         try:
             sc = load_scenario(path, poses)
-            _settings(sc, None, {})
+            st = _settings(sc, None, {})
         except ConfigError as e:
             _error(str(e))
             bad += 1
             continue
-        _emit(f"{path}: ok (scenario {sc.name}, {count(sc.n, 'obstacle')})")
         if args.ga:
             try:
-                _settings(sc, args.ga, {})
+                st = _settings(sc, args.ga, {})
             except ConfigError as e:
                 _error(str(e))
                 ga_ok, bad = False, bad + 1
+        problem = _no_path(sc, st)
+        if problem:
+            _error(f"{path}: {problem}")
+            bad += 1
+            continue
+        _emit(f"{path}: ok (scenario {sc.name}, {count(sc.n, 'obstacle')}, a feasible path "
+              f"exists under collision {st.collision}"
+              + ("" if st.turns == "tight-rope" else f", {st.turns} turns") + ")")
     if args.ga and ga_ok:
         keys = _ga_file(args.ga)[0]
         shown = ", ".join(f"{k} = {v}" for k, v in keys.items()) or "no settings"
@@ -516,6 +525,17 @@ def _cmd_check(args) -> int:
     if plugins and not bad:
         _emit(f"plugins: {', '.join(plugins)}: ok (imported)")
     return 2 if bad else 0
+
+
+def _no_path(scenario, settings) -> str | None:
+    """None if the model of ``settings`` holds a feasible path in ``scenario``, else the
+    line that says there is none, and why (the tangent graph alone: milliseconds)."""
+    from hga_jax.model import no_path
+
+    if no_path.exists(scenario, settings.collision, settings.turns):
+        return None
+    return no_path.verdict(settings.collision, settings.turns,
+                           no_path.why(scenario, settings.collision, settings.turns))
 
 
 def _cmd_plot(args) -> int:
@@ -545,6 +565,7 @@ def _cmd_export(args) -> int:
     from hga_jax.running.progress import count
 
     from . import poses
+    from .output import writable_folder
     from .report import load_result, result_path, result_scenario
 
     _plugins(args)
@@ -558,8 +579,7 @@ def _cmd_export(args) -> int:
     folder = args.out or os.path.dirname(args.result) or "."
     tail = "" if args.run is None else f"_run{args.run}"
     files = [os.path.join(folder, f"poses{tail}.{ext}") for ext in ("csv", "json")]
-    if os.path.exists(folder) and not os.path.isdir(folder):
-        raise ConfigError(f"{folder}: output folder: exists and is not a folder")
+    writable_folder(folder)
     for name in files:
         if os.path.exists(name) and not args.force:
             raise ConfigError(f"{name}: already exists (use --force to replace it, or --out)")

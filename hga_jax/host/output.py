@@ -51,16 +51,25 @@ def check_folder(folder: str, force: bool) -> None:
     result's files. Creates nothing, so a run that is refused or interrupted
     leaves no trace.
     """
-    if os.path.exists(folder) and not os.path.isdir(folder):
-        raise ConfigError(f"{folder}: output folder: exists and is not a folder")
+    writable_folder(folder)
     old = result_files_in(folder)
     if old and not force:
         raise ConfigError(f"{folder}: output folder: already holds a result ({', '.join(old)}); "
                           "use --force (force=True in Python) to replace it, or another folder")
+
+
+def writable_folder(folder: str) -> None:
+    """Raise :class:`ConfigError` unless ``folder`` is a folder, or can be made, that can
+    be written: the rule of every command that writes a folder. Creates nothing."""
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise ConfigError(f"{folder}: output folder: exists and is a file, not a folder")
     parent = os.path.abspath(folder)
     while not os.path.exists(parent):
         parent = os.path.dirname(parent)
-    if not (os.path.isdir(parent) and os.access(parent, os.W_OK | os.X_OK)):
+    if not os.path.isdir(parent):
+        raise ConfigError(f"{folder}: output folder: {parent} is a file, not a folder, so "
+                          "nothing can be made under it")
+    if not os.access(parent, os.W_OK | os.X_OK):
         raise ConfigError(f"{folder}: output folder: {parent} is not writable")
 
 

@@ -20,6 +20,7 @@ import numpy as np
 from hga_jax.errors import ConfigError
 from hga_jax.model.fitness import fitness_of, length_of_fitness
 from .output import csv_writer, figure_writer, json_writer, write_result
+from hga_jax.model.no_path import NO_PATH, verdict
 from hga_jax.model.touch import touch_list
 from hga_jax.running.progress import count
 from hga_jax.running.results import RunsResult, json_safe, optimum_dict, result_document
@@ -44,10 +45,11 @@ def operators(st: GASettings) -> str:
     """The GA's operators and rates in one phrase."""
     sel = (f"tournament selection (size {st.tournament_size})" if st.selection == "tournament"
            else f"{st.selection} selection")
+    binding = "" if st.label_binding == "position" else f" (bound by {st.label_binding})"
     return (f"{sel}; order: {st.perm_crossover} crossover (pc {st.pc_upper:g}), "
-            f"{st.perm_mutation} mutation (pm {st.pm_upper:g}); labels: {st.label_crossover} "
-            f"crossover (pc {st.pc_lower:g}), redraw (pm {st.pm_lower:g} per gene); "
-            f"{count(st.elites, 'elite')}" + _extras(st))
+            f"{st.perm_mutation} mutation (pm {st.pm_upper:g}); labels{binding}: "
+            f"{st.label_crossover} crossover (pc {st.pc_lower:g}), {st.label_mutation} "
+            f"mutation (pm {st.pm_lower:g} per gene); {count(st.elites, 'elite')}" + _extras(st))
 
 
 def _extras(st: GASettings) -> str:
@@ -55,7 +57,7 @@ def _extras(st: GASettings) -> str:
     out = []
     if st.free:
         out.append(f"free turns: leg genes, {st.leg_crossover} crossover (pc {st.pc_legs:g}), "
-                   f"{st.leg_mutation} (pm {st.pm_legs:g} per gene)")
+                   f"{st.leg_mutation} mutation (pm {st.pm_legs:g} per gene)")
     if st.path_mutation != "none":
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
     if st.seeding > 0:
@@ -80,10 +82,10 @@ def _full_test_note(scenario: Scenario, path: Any) -> str:
     if path is None:
         return PAPER_NOTE
     full = evaluate_path(scenario, *from_chromosome(path.upper, path.lower, scenario.n), "full")
-    verdict = ("is feasible under the full test too" if full.feasible else
-               f"has {count(full.violations, 'violation')} under the full test (collision "
-               "\"full\")")
-    return f"{PAPER_NOTE}; this path {verdict}"
+    said = ("is feasible under the full test too" if full.feasible else
+            f"has {count(full.violations, 'violation')} under the full test (collision "
+            "\"full\")")
+    return f"{PAPER_NOTE}; this path {said}"
 
 
 def run_summary(res: RunsResult) -> str:
@@ -127,15 +129,27 @@ def run_summary(res: RunsResult) -> str:
                          "expresses; best chromosome path "
                          + (f"{alt.length:.6f} m" if alt is not None else "unknown"))
     elif res.optimum is not None:
-        lines.append(f"optimum: no feasible path exists (collision {st.collision})")
+        lines.append("optimum: " + no_path_line(res.optimum))
     if st.collision == "paper":
         lines.append("note: " + _full_test_note(sc, res.best))
     rate = s["evaluations_per_s"]
     on = f" on {count(res.devices, 'device')}" if res.devices > 1 else ""
     lines.append(f"time: compile {res.compile_s:.2f} s, search {res.search_s:.2f} s{on} "
                  f"({count(s['evaluations'], 'evaluation')}"
-                 + (f", {rate:,.0f}/s" if rate else "") + f"), finish {res.finish_s:.2f} s")
+                 + (f", {rate:,.0f}/s" if rate else "") + f"), finish {res.finish_s:.2f} s"
+                 + _resumed_note(res))
     return "\n".join(lines)
+
+
+def _resumed_note(res: RunsResult) -> str:
+    """For a resumed job: how the times split between this command and the interrupted one."""
+    e = res.earlier
+    if not e:
+        return ""
+    return (f"; compile and search include the {count(e['runs'], 'run')} kept from the "
+            f"interrupted command ({e['compile_s']:.2f} s and {e['search_s']:.2f} s there; "
+            f"{res.compile_s - e['compile_s']:.2f} s and {res.search_s - e['search_s']:.2f} s "
+            "in this one)")
 
 
 def run_json(res: RunsResult, written: list[str]) -> dict[str, Any]:
@@ -152,11 +166,12 @@ def run_json(res: RunsResult, written: list[str]) -> dict[str, Any]:
 
 def exact_summary(scenario: Scenario, opt: Any) -> str:
     """The summary ``hga-jax exact`` prints."""
-    head = (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}), collision "
-            f"{opt.collision}: ")
     took = f"solved in {1000 * opt.seconds:.1f} ms"
     if not opt.feasible:
-        return head + f"no feasible path exists; {took}"
+        return (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}): "
+                f"{no_path_line(opt)}; {took}")
+    head = (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}), collision "
+            f"{opt.collision}: ")
     text = head + f"optimum {opt.length:.6f} m touching {touches(opt.touched)}, {took}"
     if opt.turns == "free":
         text = head + (f"free-turn optimum {opt.length:.6f} m touching {touches(opt.touched)}"
@@ -175,11 +190,16 @@ def exact_summary(scenario: Scenario, opt: Any) -> str:
     return text
 
 
+def no_path_line(opt: Any) -> str:
+    """The one line of every model for an optimum that does not exist, with why."""
+    return verdict(opt.collision, opt.turns, opt.message)
+
+
 def _tight_rope_line(opt: Any) -> str:
     """The tight-rope optimum beside a free-turn one: its length and the ratio."""
     tight = opt.tight_rope_length
     if tight is None or not math.isfinite(tight):
-        return "tight-rope optimum: no feasible path"
+        return f"tight-rope optimum: {NO_PATH}"
     if opt.length >= tight - 1e-9 * max(1.0, tight):
         return f"tight-rope optimum {tight:.6f} m: the same path (no free turn shortens it)"
     return (f"tight-rope optimum {tight:.6f} m; free turns are {100 * (1 - opt.length / tight):.2f}%"
@@ -298,18 +318,48 @@ def load_partial(out: str, scenario: Scenario, settings: Any, seed: int, first_r
     doc = load_result(where)
     fresh = json.loads(json.dumps(result_document(scenario, {
         "settings": dataclasses.asdict(settings.for_obstacles(scenario.n))})))
-    same = {"scenario": doc["scenario"]["definition"] == fresh["scenario"]["definition"],
-            "settings": doc["settings"] == fresh["settings"], "seed": part["seed"] == seed,
-            "first run": part["first_run"] == first_run,
-            "runs": part["runs_requested"] == runs}
-    for what, ok in same.items():
-        if not ok:
+    mine = {"scenario": (doc["scenario"]["definition"], fresh["scenario"]["definition"]),
+            "settings": (doc["settings"], fresh["settings"]), "seed": (part["seed"], seed),
+            "first run": (part["first_run"], first_run),
+            "runs": (part["runs_requested"], runs)}
+    for what, (there, here) in mine.items():
+        diff = _differences(there, here, "" if what in ("seed", "first run", "runs") else what)
+        if diff:
+            key, was, now = diff[0]
+            more = f" (and {count(len(diff) - 1, 'other difference')})" if len(diff) > 1 else ""
             raise ConfigError(f"{where}: --resume: the partial result was not made by this "
-                              f"command (its {what} differs); use the interrupted command "
-                              "with --resume, or --force to start over")
+                              f"command: its {key or what} is {_shown(was)}, this command's "
+                              f"is {_shown(now)}{more}; use the interrupted command with "
+                              "--resume, or --force to start over")
     with np.load(os.path.join(out, PARTIAL)) as z:
         arrays = {k: z[k] for k in z.files}
     return doc, arrays
+
+
+def _differences(a: Any, b: Any, key: str) -> list[tuple[str, Any, Any]]:
+    """``(dotted key, value in a, value in b)`` wherever two JSON values differ."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        return [d for k in dict.fromkeys([*a, *b])
+                for d in _differences(a.get(k, _MISSING), b.get(k, _MISSING),
+                                      f"{key}.{k}" if key else k)]
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        return [d for i, (x, y) in enumerate(zip(a, b))
+                for d in _differences(x, y, f"{key}[{i + 1}]")]
+    return [] if a == b else [(key, a, b)]
+
+
+_MISSING = object()
+
+
+def _shown(value: Any) -> str:
+    """A value of a result file as a message shows it."""
+    if value is _MISSING:
+        return "not set"
+    if isinstance(value, bool) or value is None:
+        return json.dumps(value)
+    if isinstance(value, int):
+        return f"{value:,}"
+    return repr(value) if isinstance(value, str) else json.dumps(value)
 
 
 def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
@@ -349,8 +399,8 @@ def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False,
                             title=path_title(scenario.name, what, opt.length, 0,
                                              opt.collision))
         else:
-            fig = plot_path(scenario, [], title=f"{scenario.name}: no feasible path, collision "
-                            f"{opt.collision}")
+            fig = plot_path(scenario, [], title=f"{scenario.name}: "
+                            + verdict(opt.collision, opt.turns))
         files["path.png"] = (figure_writer(fig), True)
     return write_result(out, files, force)
 
@@ -444,8 +494,8 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
         if opt["feasible"]:
             overlay, note = opt["segments"], f"; optimum {opt['length']:.4f} m (dashed)"
         else:
-            note = "; no feasible optimum"
+            note = f"; optimum: {NO_PATH}"
     title = (path_title(sc.name, what, length, viol, collision, st) if length is not None
-             else f"{sc.name}: no feasible path, collision {collision}")
+             else f"{sc.name}: " + verdict(collision, st_keys.get("turns", "tight-rope")))
     return plot_path(sc, segs, touched=touched, violations_at=where, optimum=overlay,
                      title=title + note)

@@ -63,7 +63,8 @@ class ExactResult:
       ``best_expressible`` is the best chromosome-expressible feasible path (None if none).
     path: ``evaluate_path`` of the optimal chromosome (None when not expressible; then
       ``best_expressible`` is that path). segments: docs/model.md segments of the optimal walk.
-    Infeasible scenes: ``feasible`` False, ``length`` inf, ``expressible`` True, no paths.
+    Infeasible scenes (every model alike, :func:`no_path`): ``feasible`` False, ``length``
+      inf, ``expressible`` True, no paths, and ``message`` says why in a line.
     turns: the model, ``"tight-rope"`` (the paper's) or ``"free"`` (turns on circles of
       radius rho in free space too, :mod:`hga_jax.model.free_turns`). Under free turns
       ``tight_rope_length`` is the tight-rope optimum (m) and ``free_arcs`` the number of
@@ -95,7 +96,8 @@ class ExactResult:
         return {
             "length": self.length if self.feasible else None,
             "feasible": self.feasible, "touched": touch_list(self.touched),
-            "upper": self.upper, "lower": self.lower, "expressible": self.expressible,
+            "upper": self.upper, "lower": self.lower,
+            "expressible": self.expressible if self.feasible else None,
             "walk_length": self.walk_length if self.feasible else None,
             "best_expressible": None if best is None else best.to_dict(),
             "seconds": self.seconds, "collision": self.collision, "message": self.message,
@@ -248,8 +250,7 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope"
     h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
     walk_length, edges, _ = search(gr, h, distinct=False)
     if not edges:
-        return ExactResult(math.inf, False, collision, math.inf, True, None, None, [], None, None,
-                           seconds=time.perf_counter() - t0, message="no feasible path")
+        return no_path(scenario, collision, "tight-rope", time.perf_counter() - t0, gr)
     circs, segs = walk(gr, edges)
     obs, sg = gr.circles[4], gr.circles[3]
     touched = [Touch(int(obs[c]) + 1, int(sg[c])) for c in circs[1:-1]]
@@ -278,6 +279,18 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope"
                        path, best, segs, spent, message)
 
 
+def no_path(scenario: Scenario, collision: str, turns: str, seconds: float,
+            gr: Any = None) -> ExactResult:
+    """The answer of every model for a scene with no feasible path: ``feasible`` False,
+    ``length`` inf, no chromosome, and in ``message`` why (:func:`hga_jax.model.no_path.why`;
+    ``gr``: the model's graph, if built)."""
+    from .no_path import why
+
+    return ExactResult(math.inf, False, collision, math.inf, True, None, None, [], None, None,
+                       seconds=seconds, message=why(scenario, collision, turns, gr), turns=turns,
+                       tight_rope_length=None if turns == "tight-rope" else math.inf)
+
+
 def solve_free(scenario: Scenario) -> ExactResult:
     """The free-turn optimum (:mod:`hga_jax.model.free_turns`), with the tight-rope
     optimum beside it. A path without free arcs that is no shorter than the tight-rope
@@ -293,6 +306,8 @@ def solve_free(scenario: Scenario) -> ExactResult:
     bound = tight.length * (1.0 + 1e-9) + 1e-12
     length, segs, touched, free = free_turns.shortest(scenario, bound)
     spent = time.perf_counter() - t0
+    if not math.isfinite(length):  # no free-turn path, so no tight-rope one either
+        return no_path(scenario, "full", "free", spent)
     if math.isfinite(tight.length) and not length <= tight.length + 1e-9 * max(1.0, tight.length):
         raise ModelMismatchError(
             f"{scenario.source}: the free-turn optimum ({length!r} m) is longer than the "

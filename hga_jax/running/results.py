@@ -63,6 +63,9 @@ class RunsResult:
     plugins: tuple[str, ...] = ()  # plugins imported for the settings (hga-jax run --plugin)
     budget: dict[str, Any] | None = None  # how the generations grew with n (GASettings.budget)
     legs: np.ndarray | None = None  # (R, n + 2) positional leg genes (free turns), else None
+    # A resumed job: what its interrupted start had done, included in the totals above
+    # ({"runs": count, "compile_s": s, "search_s": s}); None for a job run at once.
+    earlier: dict[str, Any] | None = None
 
     @property
     def feasible(self) -> np.ndarray:
@@ -118,6 +121,7 @@ class RunsResult:
             "devices": self.devices,
             "evaluations": self.evaluations,
             "evaluations_per_s": self.evaluations / self.search_s if self.search_s else None,
+            **({"resumed": dict(self.earlier)} if self.earlier else {}),
         }
         if self.optimum_length is not None:
             gap = self.gap[self.feasible]  # infeasible runs are counted, not averaged

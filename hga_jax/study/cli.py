@@ -32,7 +32,8 @@ def _options(p: argparse.ArgumentParser) -> None:
                    "the output folder (its cells too)")
     p.add_argument("--scenes", type=int, help="only the first N scenes of each family "
                    "(a part of the study; the full study reuses its cells)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no table: one "
+                   "line saying what ran and where the summary is")
     p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs "
                    "on disk")
     devices.add_option(p)
@@ -52,10 +53,18 @@ def run(args: argparse.Namespace) -> int:
         validation.at_least(args.scenes, "command line", "--scenes", 1)
     outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,
                         progress=not args.quiet, force=args.force)
+    import os
+    import shutil
+
+    from .summary import brief
+
     print(f"study {outcome.study.name}: {len(outcome.docs)} cells "
           f"({outcome.cells_run} run now, {outcome.cells_reused} already done), "
           f"{len(outcome.table)} runs; results in {outcome.folder}")
-    md = f"{outcome.folder}/summary.md"
-    print(open(md).read() if outcome.docs else "")
+    md = os.path.join(outcome.folder, "summary.md")
+    if outcome.docs and not args.quiet:
+        print(brief(outcome.summary, min(100, shutil.get_terminal_size((100, 24)).columns)))
+    if outcome.docs:
+        print(f"every column, the tests and the notes: {md}")
     return 0
 

@@ -122,10 +122,9 @@ def check_folder(folder: str, study: Study, force: bool = False) -> None:
     study (another name, or the quick version of the full one) unless ``force``, which
     removes that study's files first. A folder of this study is resumed."""
     from hga_jax.errors import ConfigError
-    from hga_jax.host.output import result_files_in
+    from hga_jax.host.output import result_files_in, writable_folder
 
-    if os.path.exists(folder) and not os.path.isdir(folder):
-        raise ConfigError(f"{folder}: output folder: exists and is not a folder")
+    writable_folder(folder)
     old = result_files_in(folder)
     if old:
         raise ConfigError(f"{folder}: output folder: holds a run's result ({', '.join(old)}), "

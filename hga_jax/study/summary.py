@@ -207,6 +207,32 @@ def setup(study, scenes, docs: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def brief(rows: list[dict[str, Any]], width: int = 100) -> str:
+    """The terminal's view of a summary: per group, each configuration's hit rate with
+    its interval, median gap and feasible share, in lines of at most ``width``
+    characters (configuration names shortened with "..."); the tables with every
+    column are summary.md's."""
+    out = []
+    for group in dict.fromkeys(r["group"] for r in rows):
+        mine = [r for r in rows if r["group"] == group]
+        cells = [(f"{_fmt(r['hit_rate'], True)} [{_fmt(r['hit_rate_ci_low'], True)}, "
+                  f"{_fmt(r['hit_rate_ci_high'], True)}]", _fmt(r["gap_median"], True),
+                  _fmt(r["feasible_rate"], True)) for r in mine]
+        head = ("hit rate [95%]", "median gap", "feasible")
+        cols = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(head)]
+        room = max(8, width - sum(cols) - 2 * len(cols) - 2)
+        name = min(room, max(len("configuration"), *(len(r["config"]) for r in mine)))
+        line = lambda first, rest: "  " + "  ".join(  # noqa: E731
+            [first.ljust(name)] + [v.rjust(w) for v, w in zip(rest, cols)])
+        out += [f"{group}:", line(_short("configuration", name), head)]
+        out += [line(_short(r["config"], name), c) for r, c in zip(mine, cells)]
+    return "\n".join(out)
+
+
+def _short(text: str, width: int) -> str:
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
 def markdown(rows: list[dict[str, Any]], title: str, skipped: dict[str, str] | None = None,
              note: str | None = None, preamble: str = "") -> str:
     """Markdown text: the title, what was run (``preamble``), notes (skipped configurations
