@@ -1,18 +1,8 @@
-"""Figures: a planned path in its scene, and GA convergence over generations.
-
-Host code on matplotlib's object API (``matplotlib.figure.Figure``, no pyplot),
-so it runs headless and the figures display in notebooks. Artists carry a
-``gid`` ("field", "field_inner", "obstacle", "model_circle", "turning_circle",
-"start", "start_arrow", "goal", "goal_arrow", "arc", "free_arc", "line", "touched",
-"optimum_path", "violation_piece", "violation_obstacle", "violation_point",
-"best_median", "best_band", "mean_median", "optimum", "length_median",
-"optimum_length") so callers and tests can find them. Obstacles are labelled
-with their numbers, counted from 1 (docs/model.md).
-"""
+"""A planned path in its scene: field, obstacles (numbered from 1), poses with their
+turning circles, the path's arcs and lines, the optimum, and violations."""
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -22,9 +12,9 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 
 from hga_jax.model.scenario import Scenario
+from .labels import place_labels
+from .style import C_ARC, C_BAD, C_FREE, C_GOAL, C_LINE, C_OPT, C_START, C_TOUCH, EDGE_PAD_PT
 
-C_ARC, C_LINE, C_START, C_GOAL, C_TOUCH = "tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"
-C_OPT, C_BAD, C_FREE = "black", "red", "tab:cyan"
 PTS_PER_RAD = 60  # arc sampling density
 
 
@@ -110,9 +100,18 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     path. ``violations_at``: ``Path.violations_at`` items; each offending piece is
     redrawn in red, each obstacle it meets gets a red model circle and a cross at
     the piece's point closest to its centre.
+
+    The title may be long (several lines): its font shrinks until it fits the
+    figure with a margin, and only a title too wide even at 7 pt is broken onto more
+    lines. The legend lists only what is drawn. Labels are placed once the figure is
+    laid out as it will be saved: an obstacle's number moves off a violation cross
+    that would hide it, and each CW/CCW tag takes the place round its obstacle,
+    between body and model circle, clearest of the other obstacles' circles and of
+    the other labels. The view widens along x or y to fill the axes at equal aspect.
     """
     if ax is None:
         fig = Figure(figsize=(8.0, 5.6), layout="constrained")
+        fig.get_layout_engine().set(w_pad=EDGE_PAD_PT / 72, h_pad=EDGE_PAD_PT / 72)
         ax = fig.add_subplot()
     else:
         fig = ax.figure
@@ -129,16 +128,21 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
                                    ls="-.", gid="field_inner"))
         pts.append(np.asarray([[f.xmin, f.ymin], [f.xmax, f.ymax]]))
     touch = _touches(touched, scenario.n)
+    numbers, tags = [], {}
     for i, (c, ri, Ri) in enumerate(zip(centres, radii, model)):
         hit = i in touch
         ax.add_patch(Circle(c, ri, fc="0.86", ec="0.55", lw=0.8, zorder=2, gid="obstacle"))
         ax.add_patch(Circle(c, Ri, fill=False, ls="-" if hit else "--", lw=2.0 if hit else 0.8,
                             ec=C_TOUCH if hit else "0.45", zorder=3, gid="model_circle"))
-        ax.text(c[0], c[1], str(i + 1), ha="center", va="center", fontsize=8, zorder=4,
-                color=C_TOUCH if hit else "black", fontweight="bold" if hit else "normal")
+        numbers.append(ax.text(c[0], c[1], str(i + 1), ha="center", va="center", fontsize=8,
+                               zorder=10, color=C_TOUCH if hit else "black",
+                               fontweight="bold" if hit else "normal", gid="obstacle_number"))
         if hit:  # tag in the ring between body and model circle, which the path never enters
-            ax.text(c[0], c[1] - 0.5 * (ri + Ri), "CW" if touch[i] > 0 else "CCW", color=C_TOUCH,
-                    fontsize=6, fontweight="bold", ha="center", va="center", zorder=7, gid="touched")
+            tags[i] = ax.text(c[0], c[1] - 0.5 * (ri + Ri), "CW" if touch[i] > 0 else "CCW",
+                              color=C_TOUCH, fontsize=6, fontweight="bold", ha="center",
+                              va="center", zorder=7, gid="touched",
+                              bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none",
+                                        alpha=0.75))  # legible on a line it may sit on
         pts.append(np.asarray([c - Ri, c + Ri]))
     span0 = np.ptp(np.concatenate(pts), axis=0).max() if len(pts) > 1 else 1.0
     span = float(span0) if span0 > 0 else 1.0
@@ -167,19 +171,26 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
                     gid="optimum_path", label=label)
             label = "_nolegend_"
             pts.append(xy)
-    _violations(ax, list(violations_at), drawn, centres, model)
+    crosses = _violations(ax, list(violations_at), drawn, centres, model)
     allp = np.concatenate(pts)
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     pad = 0.03 * float(max(hi - lo))
-    ax.set_xlim(lo[0] - pad, hi[0] + pad)
-    ax.set_ylim(lo[1] - pad, hi[1] + pad)
-    ax.set_aspect("equal", adjustable="box")
+    # Equal aspect by widening the view, not by narrowing the axes' box: a narrowed box
+    # would leave its title and legend where the layout did not measure them. The
+    # bounds are set with autoscaling left on, which lets the aspect widen them.
+    ax.set_xbound(lo[0] - pad, hi[0] + pad)
+    ax.set_ybound(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_title(scenario.name if title is None else title)
-    handles = [Line2D([], [], marker="o", ls="", mfc="0.86", mec="0.55", ms=9, label="obstacle (robot)"),
-               Line2D([], [], ls="--", color="0.45", lw=0.8, label="model circle"),
-               Line2D([], [], ls=":", color="0.3", lw=0.8, label=r"turning circles ($\rho$)")]
+    handles = []  # what is drawn, and only that
+    if scenario.n:
+        handles.append(Line2D([], [], marker="o", ls="", mfc="0.86", mec="0.55", ms=9,
+                              label="obstacle (robot)"))
+    if len(touch) < scenario.n:
+        handles.append(Line2D([], [], ls="--", color="0.45", lw=0.8, label="model circle"))
+    handles.append(Line2D([], [], ls=":", color="0.3", lw=0.8, label=r"turning circles ($\rho$)"))
     if touch:
         handles.append(Line2D([], [], color=C_TOUCH, lw=2.0, label="touched (CW/CCW)"))
     if f is not None:
@@ -189,14 +200,18 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     h, _ = ax.get_legend_handles_labels()
     ax.legend(handles=h + handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
               fontsize=8, frameon=False)
+    for t in numbers + list(tags.values()):  # inside the view: nothing for the layout
+        t.set_in_layout(False)
+    place_labels(ax, (lo - pad, hi + pad), centres, radii, model, numbers, tags, crosses)
     return fig
 
 
 def _violations(ax: Axes, where: list[Mapping[str, Any]], drawn: list[np.ndarray],
-                centres: np.ndarray, model: np.ndarray) -> None:
+                centres: np.ndarray, model: np.ndarray) -> list[Line2D]:
     """Mark each violation: the piece in red; an obstacle's model circle and the
-    piece's point closest to its centre (a cross)."""
+    piece's point closest to its centre (a cross). Returns the crosses."""
     label = "violation: piece"
+    crosses = []
     for v in where:
         seg = v.get("segment")
         if seg is None:
@@ -208,113 +223,11 @@ def _violations(ax: Axes, where: list[Mapping[str, Any]], drawn: list[np.ndarray
         if v.get("kind") == "obstacle":
             k = int(v["obstacle"]) - 1
             p = _closest(xy, centres[k])
-            ax.plot([p[0]], [p[1]], "x", color=C_BAD, ms=9, mew=2.2, zorder=9,
-                    gid="violation_point")
+            crosses += ax.plot([p[0]], [p[1]], "x", color=C_BAD, ms=9, mew=2.2, zorder=9,
+                               gid="violation_point")
     label = "violation: obstacle met"
     for k in sorted({int(v["obstacle"]) - 1 for v in where if v.get("kind") == "obstacle"}):
         ax.add_patch(Circle(centres[k], model[k], fill=False, ec=C_BAD, lw=2.0, zorder=4,
                             gid="violation_obstacle", label=label))
         label = "_nolegend_"
-
-
-def _band(ax: Axes, gens: np.ndarray, data: np.ndarray, colour: str, label: str, gid: str) -> None:
-    """Median over runs (line) and interquartile band of a (G+1, runs) array."""
-    q1, med, q3 = np.percentile(data, [25, 50, 75], axis=1)
-    ax.fill_between(gens, q1, q3, color=colour, alpha=0.22, lw=0, gid=gid + "_band")
-    ax.plot(gens, med, color=colour, lw=1.8, label=label, gid=gid + "_median")
-
-
-def headroom(ax: Any, y: float, share: float = 0.08) -> None:
-    """Keep a horizontal line at ``y`` off the frame: widen the y range to leave
-    ``share`` of it on the far side of ``y``."""
-    lo, hi = ax.get_ylim()
-    span = (hi - lo) or abs(y) or 1.0
-    if y >= hi - 0.02 * span:
-        ax.set_ylim(lo, y + share * span)
-    if y <= lo + 0.02 * span:
-        ax.set_ylim(y - share * span, ax.get_ylim()[1])
-
-
-def plot_convergence(best_fitness: np.ndarray, mean_fitness: np.ndarray, *,
-                     optimum_fitness: float | None = None, best_length: np.ndarray | None = None,
-                     optimum_length: float | None = None, title: str | None = None,
-                     length_label: str = "best path length (m)",
-                     reached: dict[str, np.ndarray] | None = None,
-                     population: int | None = None) -> Figure:
-    """Fitness over generation (paper Fig. 5) from arrays shaped (G+1, runs).
-
-    Row ``g`` is generation ``g`` (0 = initial population). Draws the median
-    over runs and the interquartile band of the best and the mean fitness, the
-    optimum's fitness as a line when given, and, when ``best_length`` is given,
-    a second panel of the best-so-far path length against the optimum length
-    (``length_label`` names its axis). ``reached`` (label -> per run the first
-    generation it got there, -1 never) adds a panel of the share of runs there by
-    each number of evaluations (``population`` per generation), on a log axis: it
-    still tells a story when every run finds the optimum in generation 0.
-    """
-    best = np.asarray(best_fitness, float).reshape(len(best_fitness), -1)
-    mean = np.asarray(mean_fitness, float).reshape(len(mean_fitness), -1)
-    runs, gens = best.shape[1], np.arange(best.shape[0])
-    what = "median, IQR over %d runs" % runs if runs > 1 else "1 run"
-    count = 1 + (best_length is not None) + (reached is not None)
-    fig = Figure(figsize=(3.6 + 3.4 * (count - 1) if count > 1 else 6.0, 3.8),
-                 layout="constrained")
-    axes = fig.subplots(1, count, squeeze=False)[0]
-    two = best_length is not None
-    ax = axes[0]
-    _band(ax, gens, best, C_ARC, f"best fitness ({what})", "best")
-    _band(ax, gens, mean, C_LINE, f"mean fitness ({what})", "mean")
-    if optimum_fitness is not None:
-        ax.axhline(float(optimum_fitness), color="black", ls="--", lw=1.0,
-                   label="optimum", gid="optimum")
-        headroom(ax, float(optimum_fitness))
-    ax.set_xlabel("generation")
-    ax.set_ylabel("fitness  10000 / (Dist$_m$ + 1)")
-    ax.set_xlim(gens[0], max(gens[-1], 1))
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
-    if two:
-        ax2 = axes[1]
-        length = np.asarray(best_length, float).reshape(len(best_length), -1)
-        _band(ax2, gens, length, C_ARC, f"best so far ({what})", "length")
-        if optimum_length is not None:
-            ax2.axhline(float(optimum_length), color="black", ls="--", lw=1.0,
-                        label="optimum length", gid="optimum_length")
-            headroom(ax2, float(optimum_length))
-        ax2.set_xlabel("generation")
-        ax2.set_ylabel(length_label)
-        ax2.set_xlim(gens[0], max(gens[-1], 1))
-        ax2.grid(alpha=0.3)
-        ax2.legend(fontsize=8, loc="best")
-    if reached is not None:
-        ax3 = axes[-1]
-        pop = population or 1
-        evals = pop * (gens + 1)
-        for (label, first), colour, ls in zip(reached.items(), (C_LINE, C_ARC, "tab:green"),
-                                              ("-", "--", ":")):
-            first = np.asarray(first)
-            share = [100 * np.mean((first >= 0) & (first <= g)) for g in gens]
-            ax3.step(evals, share, where="post", color=colour, ls=ls, label=label,
-                     gid=f"reached_{label}")
-        ax3.set_xscale("log")
-        ax3.set_ylim(-3, 103)
-        ax3.set_xlabel(f"evaluations ({pop} per generation)")
-        ax3.set_ylabel("runs there (%)")
-        ax3.grid(alpha=0.3)
-        ax3.legend(fontsize=8, loc="lower right")
-    if title is not None:
-        fig.suptitle(title, fontsize=9)
-    return fig
-
-
-def save_figure(fig: Figure, path: str | Path, dpi: int = 140, vector: bool = False) -> Path:
-    """Write ``fig`` as PNG to ``path`` atomically (parents created); return the path.
-    ``vector``: also a PDF beside it (same name, ``.pdf``), for a paper's figures."""
-    from .output import atomic_write, figure_writer
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write(str(path), figure_writer(fig, dpi), binary=True)
-    if vector:
-        atomic_write(str(path.with_suffix(".pdf")), figure_writer(fig, dpi, "pdf"), binary=True)
-    return path
+    return crosses
