@@ -156,15 +156,50 @@ def arc_obstacles(circle, own, arc, obs: Obstacles, tol, collision: str):
     return hits if arcs_meet_obstacles(collision) else hits & False
 
 
-def arc_candidates(circle, own: int, centres, model_radii, margin: float = 1e-3) -> np.ndarray:
+REACH_MARGIN = 1e-3
+"""m: an obstacle whose model circle stays farther than this from a circle is never met
+by an arc on it (:func:`reaching`); the margin covers rounding."""
+
+
+def reaching(cx, cy, r, centres, model_radii, margin: float = REACH_MARGIN) -> np.ndarray:
+    """(k, n) bool (numpy): which obstacles' model circles come within ``margin`` (m) of
+    each of ``k`` circles, ``| |Q - C| - r | <= R_j + margin``. No arc on a circle comes
+    closer than ``R_j`` to the others: the one prefilter of host code that judges many
+    arcs."""
+    d = np.hypot(np.asarray(cx)[:, None] - centres[:, 0], np.asarray(cy)[:, None] - centres[:, 1])
+    return np.abs(d - np.asarray(r)[:, None]) <= model_radii + margin
+
+
+def arc_candidates(circle, own: int, centres, model_radii,
+                   margin: float = REACH_MARGIN) -> np.ndarray:
     """Indices of the obstacles that some arc on one ``circle`` could violate (numpy):
-    every obstacle but ``own`` whose model circle comes within ``margin`` (m) of the
-    circle, ``| |Q - C| - r | <= R_k + margin``; no arc on the circle comes closer than
-    ``R_k`` to the others. A prefilter for host code that judges many arcs per circle."""
+    every obstacle but ``own`` that :func:`reaching` it."""
     cx, cy, r, _ = circle
-    d = np.hypot(centres[:, 0] - cx, centres[:, 1] - cy)
-    return np.flatnonzero((np.abs(d - r) <= model_radii + margin)
-                          & (np.arange(centres.shape[0]) != own))
+    near = reaching(np.atleast_1d(cx), np.atleast_1d(cy), np.atleast_1d(r), centres,
+                    model_radii, margin)[0]
+    return np.flatnonzero(near & (np.arange(centres.shape[0]) != own))
+
+
+def arcs_clear(circles, c, arc, centres, model_radii, bounds, tol,
+               collision: str = "full") -> np.ndarray:
+    """Which arcs have no violation by :func:`arc_violations`' rule (numpy, host code):
+    arcs ``arc = (ax, ay, bx, by, sweep)`` on circles ``c`` (indices into ``circles =
+    (x, y, r, sign, own)``), in the field and, under ``"full"``, clear of every obstacle
+    but their circle's own. Each arc is tested only against the obstacles that reach
+    its circle (:func:`reaching`), which gives the same answer."""
+    x, y, r, sg, own = (np.asarray(v)[c] for v in circles)
+    ok = ~arc_leaves_field((x, y, r, sg), arc, bounds, tol)
+    centres, model_radii = np.asarray(centres), np.asarray(model_radii)
+    if not (arcs_meet_obstacles(collision) and centres.shape[0]) or not np.size(c):
+        return ok
+    used = np.unique(c)
+    near = reaching(*(np.asarray(v)[used] for v in circles[:3]), centres, model_radii)
+    i, j = np.nonzero(near[np.searchsorted(used, c)])
+    ax, ay, bx, by, swp = (np.asarray(v)[i] for v in arc)
+    hit = arc_hits(x[i], y[i], r[i], ax, ay, bx, by, swp, sg[i], centres[j, 0], centres[j, 1],
+                   model_radii[j], tol) & (own[i] != j)
+    ok[i[hit]] = False
+    return ok
 
 
 def segment_leaves_field(ends, bounds, tol):

@@ -26,6 +26,7 @@ from typing import Any, NamedTuple
 import jax
 import jax.numpy as jnp
 
+from hga_jax.model import circle_ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from .scenario import ScenarioArrays
@@ -69,9 +70,10 @@ def position_circles(perm, labels):
     """
     n = perm.shape[1]
     lab = labels.T.astype(jnp.int32)  # (S, B)
-    side = (1 + lab) // 2  # 0 for CCW (-1), 1 for CW (+1)
-    obstacle_ids = 4 + 2 * perm.T.astype(jnp.int32) + (1 - side[1:n + 1])
-    return jnp.concatenate([side[:1], obstacle_ids, 2 + side[n + 1:]]), lab != 0
+    side = circle_ids.side(lab)  # 0 for CCW (-1), 1 for CW (+1)
+    obstacle_ids = circle_ids.obstacle(perm.T.astype(jnp.int32), side[1:n + 1])
+    start, goal = circle_ids.START[0] + side[:1], circle_ids.GOAL[0] + side[n + 1:]
+    return jnp.concatenate([start, obstacle_ids, goal]), lab != 0
 
 
 def _path_circles(perm, labels, legs=None):

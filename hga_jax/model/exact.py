@@ -37,9 +37,10 @@ from typing import Any
 
 import numpy as np
 
-from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from hga_jax.errors import ModelMismatchError
+from . import circle_ids as ids
+from . import tangent_graph
 from .graph_search import MAX_LABELS, Graph, search, walk
 from .path import Path, Touch, chromosome, evaluate_path, touch_list
 from .scenario import Scenario
@@ -111,21 +112,13 @@ def _finite(x: float | None) -> float | None:
     return None if x is None or not math.isfinite(x) else x
 
 
-def _arc_ok(circ, c, ax, ay, bx, by, swp, sa, collision: str) -> np.ndarray:
-    """Feasibility of arcs on circles ``c`` from A to B (the decoder's arc rule)."""
-    x, y, r, s, own = (a[c] for a in circ)
-    obstacles = col.obstacles(sa.centres, sa.model_radii, ndim=1)
-    return col.arc_violations((x, y, r, s), own, (ax, ay, bx, by, swp), obstacles, sa.bounds,
-                              TOL.length, collision) == 0
-
-
 def _tangents(sa, full: bool):
     """Every directed tangent (source, target) from the scenario's tangent table, and
     which are feasible edges: sources are start and obstacle circles, targets obstacle
-    and goal circles, never an obstacle to itself."""
+    and goal circles (:mod:`hga_jax.model.circle_ids`), never an obstacle to itself."""
     tb = sa.tangents
     obs, nc = tb.obstacle, tb.obstacle.size
-    S, T = (a.ravel() for a in np.meshgrid(np.r_[0, 1, 4:nc], np.r_[4:nc, 2, 3], indexing="ij"))
+    S, T = (a.ravel() for a in np.meshgrid(ids.sources(nc), ids.targets(nc), indexing="ij"))
     keep = (obs[S] != obs[T]) | (obs[S] < 0)
     S, T = S[keep], T[keep]
     t = g.Tangent(None, None, tb.length[S, T], tb.p1x[S, T], tb.p1y[S, T], tb.p2x[S, T],
@@ -133,65 +126,23 @@ def _tangents(sa, full: bool):
     violations = (tb.violations_full if full else tb.violations_paper)[S, T]
     coincident = tb.coincident[S, T]
     ok = (violations == 0) & ~coincident
-    direct = coincident & t.exists & (S < 2) & (T >= 2) & (T < 4)  # one start-goal circle
-    return S, T, t, ok, direct
-
-
-def _arc_pairs(circ, sa, nx, ny, ncirc) -> tuple[np.ndarray, np.ndarray]:
-    """Consecutive nodes (a, b) of each circle in its direction, wrap-around included.
-
-    A start circle's nodes are ordered by the sweep from the start point (which comes
-    first), a goal circle's by the sweep left to the goal point (which comes last),
-    an obstacle circle's by the sweep from +x. No arc enters a start point or leaves
-    a goal point.
-    """
-    x, y, _, sg, _ = circ
-    nn, nc = nx.size, x.size
-    st, gl = sa.start, sa.goal
-    rx = np.concatenate([st[0] - x[:2], gl[0] - x[2:4], np.ones(nc - 4)])[ncirc]
-    ry = np.concatenate([st[1] - y[:2], gl[1] - y[2:4], np.zeros(nc - 4)])[ncirc]
-    vx, vy, sgn, idx = nx - x[ncirc], ny - y[ncirc], sg[ncirc], np.arange(nn)
-    key = np.where((ncirc == 2) | (ncirc == 3), -g.sweep(vx, vy, rx, ry, sgn, TOL.angle),
-                   g.sweep(rx, ry, vx, vy, sgn, TOL.angle))
-    order = np.lexsort((np.where((idx == 2) | (idx == 3), nn, idx), key, ncirc))
-    co = ncirc[order]
-    first = np.flatnonzero(np.r_[True, co[1:] != co[:-1]])
-    last = np.r_[first[1:] - 1, nn - 1]
-    multi, same = last > first, co[1:] == co[:-1]
-    a = np.concatenate([order[:-1][same], order[last[multi]]])
-    b = np.concatenate([order[1:][same], order[first[multi]]])
-    legal = (b > 1) & ((a < 2) | (a > 3))
-    return a[legal], b[legal]
+    return S, T, t, ok
 
 
 def _build(sc: Scenario, collision: str) -> Graph:
-    """The tangent graph of ``sc`` with every infeasible piece left out."""
-    full, sa = collision == "full", sc.arrays(np.float64)
-    circ = x, y, r, sg, obs = (*sa.tangents.circles.T, sa.tangents.obstacle)
-    S, T, t, ok, direct = _tangents(sa, full)
-    e = int(ok.sum())
-    nx = np.concatenate([[sa.start[0]] * 2, [sa.goal[0]] * 2, t.p1x[ok], t.p2x[ok]])
-    ny = np.concatenate([[sa.start[1]] * 2, [sa.goal[1]] * 2, t.p1y[ok], t.p2y[ok]])
-    ncirc = np.concatenate([np.arange(4), S[ok], T[ok]])
-    a, b = _arc_pairs(circ, sa, nx, ny, ncirc)
-    ac = np.concatenate([ncirc[a], T[direct]])  # arcs, then start point -> goal point
-    a, b = np.concatenate([a, S[direct]]), np.concatenate([b, T[direct]])
-    cx, cy = x[ac], y[ac]
-    swp = g.sweep(nx[a] - cx, ny[a] - cy, nx[b] - cx, ny[b] - cy, sg[ac], TOL.angle)
-    aok = _arc_ok(circ, ac, nx[a], ny[a], nx[b], ny[b], swp, sa, collision)
-    a, b, ac, swp = a[aok], b[aok], ac[aok], swp[aok]
-    tie = (swp < TOL.angle) & (a > 3) & (b > 3)  # zero reverse edge b -> a
-    nt, tan = int(tie.sum()), np.arange(e) + 4
-    es = np.concatenate([tan, a, b[tie]])
-    ed = np.concatenate([tan + e, b, a[tie]])
-    ew = np.concatenate([t.length[ok], r[ac] * swp, np.zeros(nt)])
-    earc = np.concatenate([np.full(e, -1), ac, ac[tie]])
-    eswp = np.concatenate([np.zeros(e), swp, np.zeros(nt)])
-    eent = np.concatenate([obs[T[ok]], np.full(a.size + nt, -1)])
-    srt = np.argsort(es, kind="stable")
-    indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
-    return Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
-                  eent[srt].tolist(), es[srt], earc[srt], eswp[srt])
+    """The tangent graph of ``sc`` (:func:`hga_jax.model.tangent_graph.assemble`, the
+    poses' circles travelled from the start point and to the goal point) with every
+    infeasible piece left out."""
+    sa = sc.arrays(np.float64)
+    tb = sa.tangents
+    circ = (*tb.circles.T, tb.obstacle)
+    S, T, t, ok = _tangents(sa, collision == "full")
+    pieces = (S[ok], T[ok], t.p1x[ok], t.p1y[ok], t.p2x[ok], t.p2y[ok], t.length[ok])
+    s_c = np.asarray(ids.START)
+    g_c = ids.GOAL[0] + s_c  # one start circle on the goal circle of its sign
+    coincident = tb.coincident[s_c, g_c] & tb.exists[s_c, g_c]
+    return tangent_graph.assemble(sa, circ, pieces, "ends", collision, enter=tb.obstacle[T[ok]],
+                                  coincident=coincident)
 
 
 def _chromosome(n: int, circs: list[int], circles) -> tuple[list[int], list[int]]:

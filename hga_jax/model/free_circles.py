@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from hga_jax.model import circle_ids as ids
 from hga_jax.model import geometry as g
 
 from .scenario import Scenario
@@ -55,9 +56,10 @@ def free_circles(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     x, y, r, sign, _ = sc.circles(np.float64)
     # Anchors: the 4 pose circles (with the sign a free circle needs to join them) and
     # the n model circles (either sign: 0); a centre lies ``r + rho`` from its anchors.
-    ax, ay = np.concatenate([x[:4], x[4::2]]), np.concatenate([y[:4], y[4::2]])
-    ar = np.concatenate([r[:4], r[4::2]]) + rho
-    need = np.concatenate([-sign[:4], np.zeros(sc.n)])
+    poses, each = slice(0, ids.POSES), ids.one_per_obstacle
+    ax, ay = np.concatenate([x[poses], each(x)]), np.concatenate([y[poses], each(y)])
+    ar = np.concatenate([r[poses], each(r)]) + rho
+    need = np.concatenate([-sign[poses], np.zeros(sc.n)])
     i, j = np.triu_indices(ax.size, 1)
     fx, fy, k = pair_centres(ax[i], ay[i], ar[i], ax[j], ay[j], ar[j])
     ni, nj = need[i][k], need[j][k]

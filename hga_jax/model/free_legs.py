@@ -21,12 +21,14 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from hga_jax.model import circle_ids as ids
+from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
 from hga_jax.model import legs as leg_info
 from hga_jax.model import turns as turn_tables
 
-from . import free_circles, free_turns
+from . import free_circles
 from .scenario import Scenario, ScenarioArrays
 
 TOL = g.tolerances(np.float64)
@@ -161,7 +163,7 @@ def table(sc: Scenario) -> FreeLegs:
     between one obstacle's two circles."""
     x, y, r, sg, own = sc.circles(np.float64)
     rho, c = float(sc.min_turn_radius), x.size
-    src, dst = np.r_[0, 1, 4:c], np.r_[4:c, 2, 3]
+    src, dst = ids.sources(c), ids.targets(c)
     a, b = (m.ravel() for m in np.meshgrid(src, dst, indexing="ij"))
     keep = (sg[a] == sg[b]) & ~((own[a] == own[b]) & (own[a] >= 0))
     a, b = a[keep], b[keep]
@@ -177,6 +179,7 @@ def table(sc: Scenario) -> FreeLegs:
     (p1x, p1y), (p2x, p2y) = contact(a), contact(b)
     swp = g.sweep(p1x - fx, p1y - fy, p2x - fx, p2y - fy, fs, TOL.angle)
     circ = (fx, fy, np.full(fx.size, rho), fs, np.full(fx.size, -1))
-    ok = free_turns.arcs_clear(circ, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp),
-                                sc.arrays(np.float64))
+    sa = sc.arrays(np.float64)
+    ok = col.arcs_clear(circ, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp), sa.centres,
+                        sa.model_radii, sa.bounds, TOL.length)
     return FreeLegs(*(v[ok] for v in (a, b, side, fx, fy, fs, p1x, p1y, p2x, p2y, swp)))

@@ -26,8 +26,10 @@ import numpy as np
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
+from . import circle_ids as ids
+from . import tangent_graph
 from .free_circles import circles, reach
-from .graph_search import Graph, search, walk
+from .graph_search import search, walk
 from .touch import Touch
 from .scenario import Scenario
 
@@ -75,34 +77,6 @@ def _tangents(sc: Scenario, circ, bound: float = math.inf):
         t.length[alive]
 
 
-def arcs_clear(circ, c, arc, sa) -> np.ndarray:
-    """Which arcs (on circles ``c``, ``arc = (ax, ay, bx, by, sweep)``) have no violation
-    under the full rule of :func:`hga_jax.model.collision.arc_violations`: in the field,
-    clear of every obstacle but their circle's own. Each arc is tested only against the
-    obstacles that can reach its circle (:func:`hga_jax.model.collision.arc_candidates`'
-    criterion), which gives the same answer."""
-    x, y, r, sg, own = (v[c] for v in circ)
-    ok = ~col.arc_leaves_field((x, y, r, sg), arc, sa.bounds, TOL.length)
-    centres, radii = np.asarray(sa.centres), np.asarray(sa.model_radii)
-    if not centres.size:
-        return ok
-    circles = np.unique(c)
-    cx, cy, cr = (v[circles] for v in circ[:3])
-    d = np.hypot(cx[:, None] - centres[:, 0], cy[:, None] - centres[:, 1])
-    near = np.abs(d - cr[:, None]) <= radii + 1e-3  # (circles, n)
-    i, j = np.nonzero(near[np.searchsorted(circles, c)])
-    ax, ay, bx, by, swp = (v[i] for v in arc)
-    hit = col.arc_hits(x[i], y[i], r[i], ax, ay, bx, by, swp, sg[i], centres[j, 0],
-                       centres[j, 1], radii[j], TOL.length) & (own[i] != j)
-    ok[i[hit]] = False
-    return ok
-
-
-def _sweep_between(circ, c, ax, ay, bx, by):
-    x, y, _, sg, _ = circ
-    return g.sweep(ax - x[c], ay - y[c], bx - x[c], by - y[c], sg[c], TOL.angle)
-
-
 def build(sc: Scenario, bound: float = math.inf):
     """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.graph_search.Graph`, by
     :func:`graph`) over every circle of :func:`circles` and every feasible tangent
@@ -113,69 +87,14 @@ def build(sc: Scenario, bound: float = math.inf):
 
 
 def graph(sc: Scenario, circ, pieces, enter=None):
-    """A tangent graph over the circles ``circ`` (``(x, y, r, sign, own)``) from its
-    straight ``pieces`` ``(S, T, p1x, p1y, p2x, p2y, length)`` (feasible, from circle S at
-    P1 to circle T at P2; any length, so a piece may stand for a curve). Nodes are the
-    start and goal points (0, 1 and 2, 3, as in the tight-rope graph) and both ends of
-    every piece; arcs join consecutive nodes of each circle in its direction (all the
-    way round; feasible ones only), the start point to the first node after it and the
-    last node before the goal point to it. ``enter``: per piece the obstacle it enters
-    (for a search that enters each obstacle once), else -1."""
-    x, y, r, sg, _ = circ
-    sa = sc.arrays(np.float64)
-    S, T, p1x, p1y, p2x, p2y, tlen = pieces
-    e = S.size
-    st, gl = sa.start, sa.goal
-    nx = np.concatenate([[st[0]] * 2, [gl[0]] * 2, p1x, p2x])
-    ny = np.concatenate([[st[1]] * 2, [gl[1]] * 2, p1y, p2y])
-    ncirc = np.concatenate([np.arange(4), S, T])
-    ring = np.arange(4, nx.size)
-    rc = ncirc[ring]
-    key = g.sweep(np.ones(ring.size), np.zeros(ring.size), nx[ring] - x[rc], ny[ring] - y[rc],
-                  sg[rc], TOL.angle)
-    order = ring[np.lexsort((ring, key, rc))]
-    co = ncirc[order]
-    same = co[1:] == co[:-1]
-    first = np.flatnonzero(np.r_[True, ~same])
-    last = np.r_[first[1:] - 1, order.size - 1]
-    multi = last > first
-    a = [order[:-1][same], order[last[multi]]]
-    b = [order[1:][same], order[first[multi]]]
-    for pose, to_ring in ((0, True), (1, True), (2, False), (3, False)):
-        on = order[co == pose]
-        if not on.size:
-            continue
-        if to_ring:  # the start point to the first node after it
-            swp = _sweep_between(circ, pose, nx[pose], ny[pose], nx[on], ny[on])
-            a.append(np.array([pose]))
-            b.append(on[np.argmin(swp)][None])
-        else:  # the last node before the goal point to it
-            swp = _sweep_between(circ, pose, nx[on], ny[on], nx[pose], ny[pose])
-            a.append(on[np.argmin(swp)][None])
-            b.append(np.array([pose]))
-    for s_c in (0, 1):  # a start circle that is a goal circle: the arc between the points
-        g_c = 2 + s_c
-        if np.hypot(x[s_c] - x[g_c], y[s_c] - y[g_c]) < TOL.eps:
-            a.append(np.array([s_c]))
-            b.append(np.array([g_c]))
-    a, b = np.concatenate(a).astype(np.int64), np.concatenate(b).astype(np.int64)
-    ac = ncirc[a]
-    swp = _sweep_between(circ, ac, nx[a], ny[a], nx[b], ny[b])
-    aok = arcs_clear(circ, ac, (nx[a], ny[a], nx[b], ny[b], swp), sa)
-    a, b, ac, swp = a[aok], b[aok], ac[aok], swp[aok]
-    tie = (swp < TOL.angle) & (a > 3) & (b > 3)
-    nt, tan = int(tie.sum()), np.arange(e) + 4
-    es = np.concatenate([tan, a, b[tie]])
-    ed = np.concatenate([tan + e, b, a[tie]])
-    ew = np.concatenate([tlen, r[ac] * swp, np.zeros(nt)])
-    earc = np.concatenate([np.full(e, -1), ac, ac[tie]])
-    eswp = np.concatenate([np.zeros(e), swp, np.zeros(nt)])
-    srt = np.argsort(es, kind="stable")
-    indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
-    eent = np.concatenate([np.full(e, -1) if enter is None else enter,
-                           np.full(a.size + nt, -1)])
-    return Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
-                  eent[srt].tolist(), es[srt], earc[srt], eswp[srt])
+    """A free-turn tangent graph over the circles ``circ`` (``(x, y, r, sign, own)``) from
+    its straight ``pieces`` ``(S, T, p1x, p1y, p2x, p2y, length)`` (feasible, from circle
+    S at P1 to circle T at P2; any length, so a piece may stand for a curve): the one
+    assembly (:func:`hga_jax.model.tangent_graph.assemble`) with the poses' circles as
+    rings that a path may enter and leave anywhere. ``enter``: per piece the obstacle it
+    enters (for a search that enters each obstacle once), else -1."""
+    return tangent_graph.assemble(sc.arrays(np.float64), circ, pieces, "rings", "full",
+                                  enter=enter)
 
 
 def _arc_circles(gr, edges: list[int]) -> list[int]:
@@ -208,7 +127,7 @@ def shortest(sc: Scenario, bound: float = math.inf):
     if not edges:
         return float("inf"), [], [], 0
     circs, segs = walk(gr, edges)
-    first_free = 2 * sc.n + 4
+    first_free = ids.count(sc.n)
     arcs = iter(_arc_circles(gr, edges))
     free = 0
     for seg in segs:
@@ -216,5 +135,6 @@ def shortest(sc: Scenario, bound: float = math.inf):
             seg["free"] = True
             free += 1
     own, sg = gr.circles[4], gr.circles[3]
-    touched = [Touch(int(own[c]) + 1, int(sg[c])) for c in circs if 4 <= c < first_free]
+    touched = [Touch(int(own[c]) + 1, int(sg[c])) for c in circs
+               if not ids.is_pose(c) and c < first_free]
     return float(length), segs, touched, free

@@ -2,8 +2,8 @@
 
 A graph's nodes are points on oriented circles, its edges tangent pieces (straight, or
 standing for a curve) and arcs along a circle, in compressed sparse rows. Built by
-:mod:`hga_jax.model.exact` (the tight rope) and :mod:`hga_jax.model.free_turns`
-(free turns). Host code; metres and radians.
+:mod:`hga_jax.model.tangent_graph` for :mod:`hga_jax.model.exact` (the tight rope) and
+:mod:`hga_jax.model.free_turns` (free turns). Host code; metres and radians.
 """
 from __future__ import annotations
 
@@ -12,6 +12,8 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
+
+from . import circle_ids as ids
 
 MAX_LABELS = 300_000  # label-setting search budget (popped labels)
 
@@ -41,9 +43,9 @@ def search(gr: Graph, h: list[float], distinct: bool) -> tuple[float, list[int],
     exists (``complete``) or the label budget ran out (not ``complete``).
     """
     indptr, dst, w, enter = gr.indptr, gr.dst, gr.w, gr.enter
-    heap = [(h[s], 0.0, s, 0, -1) for s in (0, 1)]
+    heap = [(h[s], 0.0, s, 0, -1) for s in ids.START]
     labels: list[tuple[int, int]] = []  # (edge into this label, parent label)
-    best: dict[tuple[int, int], float] = {(0, 0): 0.0, (1, 0): 0.0}
+    best: dict[tuple[int, int], float] = {(s, 0): 0.0 for s in ids.START}
     settled: dict[int, list[int]] = {}
     pops = 0
     while heap and pops < MAX_LABELS:
@@ -56,7 +58,7 @@ def search(gr: Graph, h: list[float], distinct: bool) -> tuple[float, list[int],
                 continue
             done.append(m)
             pops += 1
-        if 2 <= u <= 3:
+        if ids.is_goal(u):
             edges = []
             while lab >= 0:
                 edges.append(labels[lab][0])

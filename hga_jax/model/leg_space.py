@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from . import circle_ids as ids
 from . import free_turns
 from .free_legs import table
 from .graph_search import search, walk
@@ -28,7 +29,7 @@ def shortest(sc: Scenario):
 
     sa = sc.arrays(np.float64)
     circ = sc.circles(np.float64)
-    S, T, t, ok, _ = _tangents(sa, True)
+    S, T, t, ok = _tangents(sa, True)
     legs = table(sc)
     rho = float(sc.min_turn_radius)
     e = int(ok.sum())
@@ -48,8 +49,8 @@ def shortest(sc: Scenario):
         if gr.arc_circle[k] >= 0 or gr.w[k] <= 0.0:
             continue
         i = next(lines)
-        if 4 + e <= u < 4 + len(pieces[0]):  # a free leg: an arc on its free circle
-            j = u - 4 - e
+        if ids.POSES + e <= u < ids.POSES + len(pieces[0]):  # a free leg: its free arc
+            j = u - ids.POSES - e
             segs[i] = {"type": "arc", "center": [float(legs.fx[j]), float(legs.fy[j])],
                        "radius": rho, "sweep": float(-legs.sign[j] * legs.sweep[j]),
                        "start_angle": float(math.atan2(legs.p1y[j] - legs.fy[j],
@@ -57,5 +58,5 @@ def shortest(sc: Scenario):
                        "free": True}
             free += 1
     own, sg = circ[4], circ[3]
-    touched = [Touch(int(own[c]) + 1, int(sg[c])) for c in circs if c >= 4]
+    touched = [Touch(int(own[c]) + 1, int(sg[c])) for c in circs if not ids.is_pose(c)]
     return float(length), segs, touched, free

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from . import circle_ids as ids
 from . import geometry as g
 from .graph_search import Graph, search
 from .scenario import Scenario
@@ -76,9 +77,9 @@ def why(sc: Scenario, collision: str = "full", turns: str = "tight-rope",
         if facing:
             return facing
     gr = graph_of(sc, collision, turns) if gr is None else gr
-    for pose, nodes, forward in (("start", (0, 1), True), ("goal", (2, 3), False)):
+    for pose, nodes, forward in (("start", ids.START, True), ("goal", ids.GOAL, False)):
         seen = _reach(gr, nodes, forward)
-        if not np.any(np.asarray(gr.ncirc)[sorted(seen)] >= 4):
+        if np.all(ids.is_pose(np.asarray(gr.ncirc)[sorted(seen)])):
             return _boxed(sc, pose, collision)
     return ("paths leave the start and reach the goal, but none joins them: obstacles "
             f"and the field's edges leave no way through for a car turning at rho = "

@@ -1,10 +1,9 @@
 """The tangent table of a scenario: every directed tangent between its oriented circles, judged once.
 
-Oriented circles are numbered the same way everywhere (decoder, exact solver):
-``0`` start CCW (``-1``), ``1`` start CW (``+1``), ``2`` goal CCW, ``3`` goal CW, then
-``4 + 2i`` obstacle ``i`` CW and ``5 + 2i`` obstacle ``i`` CCW; ``C = 2n + 4`` circles.
-A label ``l`` on a start, goal or obstacle position picks circle ``(1 + l) // 2``,
-``2 + (1 + l) // 2`` or ``4 + 2i + (1 - l) // 2``.
+Oriented circles are numbered by the one rule of :mod:`hga_jax.model.circle_ids`
+(decoder, exact solvers, turn tables): ``0`` start CCW (``-1``), ``1`` start CW
+(``+1``), ``2`` goal CCW, ``3`` goal CW, then ``4 + 2i`` obstacle ``i`` CW and
+``5 + 2i`` obstacle ``i`` CCW; ``C = 2n + 4`` circles.
 
 A tangent depends only on its two circles, so its touch points, its length and its
 violations (the segment against every obstacle, by the full or the paper criterion;

@@ -32,18 +32,18 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from hga_jax.model import circle_ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from .tangents import TangentTable
 
-_REACH_MARGIN = 1e-3  # m: obstacles farther than this beyond reach are left out
 MAX_ENTRIES = 2**24  # turns; 134 MB in float32 (n = 100 needs 8.6 million)
 
 
 def entries(n: int, variants: int = 1) -> int:
     """Number of turns of a scenario with ``n`` obstacles and ``variants`` legs per pair
     of circles (1 for the tight rope, 3 under free turns): ``(V C + 1) * C * (V C + 1)``."""
-    c = 2 * n + 4
+    c = circle_ids.count(n)
     return (variants * c + 1) * c * (variants * c + 1)
 
 
@@ -76,8 +76,8 @@ def usable(tb: TangentTable) -> bool:
     obstacle = np.asarray(tb.obstacle)
     follows = ((ids[:, None] != ids[None, :])
                & ~((obstacle[:, None] == obstacle[None, :]) & (obstacle[:, None] >= 0))
-               & ~np.isin(ids, (2, 3))[:, None]  # nothing leaves a goal circle
-               & ~np.isin(ids, (0, 1))[None, :])  # nothing arrives at a start circle
+               & ~circle_ids.is_goal(ids)[:, None]  # nothing leaves a goal circle
+               & ~circle_ids.is_start(ids)[None, :])  # nothing arrives at a start circle
     return not bool(np.any(np.asarray(tb.coincident) & follows))
 
 
@@ -138,7 +138,7 @@ def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
         ax, ay = np.broadcast_to(ax, bx.shape), np.broadcast_to(ay, by.shape)
         swp = g.sweep(ax - cx[b], ay - cy[b], bx - cx[b], by - cy[b], sign[b], tol.angle)
         circle = (cx[b], cy[b], r[b], sign[b])
-        near = col.arc_candidates(circle, obstacle[b], centres, model_radii, _REACH_MARGIN)
+        near = col.arc_candidates(circle, obstacle[b], centres, model_radii)
         obs = col.obstacles(centres[near], model_radii[near], ndim=2, index=near)
         vio = col.arc_violations(circle, obstacle[b], (ax, ay, bx, by, swp), obs, bounds,
                                  tol.length, collision).astype(f8)
