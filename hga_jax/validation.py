@@ -90,11 +90,11 @@ def run_range(seed: Any, runs: Any, first_run: Any, chunk: Any, source: str,
 
 
 def turns(value: Any, collision: str, source: str, key: str = "turns") -> str:
-    """``value`` if :func:`hga_jax.model.exact.turns_problem` finds nothing, else a
-    ConfigError."""
-    from hga_jax.model.exact import turns_problem
+    """``value`` if it names a car model that runs under ``collision``
+    (:func:`hga_jax.model.car_model.problem`), else a ConfigError."""
+    from hga_jax.model import car_model
 
-    problem = turns_problem(value, collision)
+    problem = car_model.problem(value, collision)
     if problem:
         raise error(source, key, problem)
     return value

@@ -46,7 +46,7 @@ from hga_jax import __version__
 from hga_jax.errors import ConfigError, Interrupted, ModelMismatchError
 from hga_jax.running import devices
 from hga_jax.search import registry
-from hga_jax.model.exact import TURNS
+from hga_jax.model import car_model
 from hga_jax.search.settings import COLLISIONS, PAPER, PRECISIONS, PRESETS, RECOMMENDED, GASettings
 from hga_jax.study import cli as study_cli
 
@@ -85,9 +85,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),
-    "turns": (str, TURNS, "the model the GA searches and the optimum it is measured against: "
-              "tight-rope (the paper's: turns on the model circles only) or free (the car's "
-              "shortest path: leg genes add turns on free circles; see hga-jax exact --turns)"),
+    "turns": (str, car_model.names(), "the car model the GA searches and the optimum it is "
+              "measured against: " + car_model.help_text()),
     "pc_legs": (float, None, "crossover probability per pair of parents, leg genes"),
     "pm_legs": (float, None, "mutation probability per gene, leg genes"),
 }
@@ -179,10 +178,8 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("scenario", help="scenario TOML file")
     ex.add_argument("--collision", choices=COLLISIONS,
                     help="collision test (default: the scenario's [ga] collision, else full)")
-    ex.add_argument("--turns", choices=("tight-rope", "free"), default="tight-rope",
-                    help="the model: tight-rope (the paper's: turns on the model circles "
-                    "only) or free (also on circles of radius rho in free space: the car's "
-                    "shortest path; needs the full collision test)")
+    ex.add_argument("--turns", choices=car_model.names(), default=car_model.DEFAULT,
+                    help="the car model: " + car_model.help_text())
     _pose_args(ex)
     _plugin_arg(ex)
     _output_args(ex, "results/<scenario file name>-exact")
@@ -490,7 +487,8 @@ def _cmd_exact(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from hga_jax.running.progress import count
+    from hga_jax.model.no_path import model_words
+    from hga_jax.words import count
 
     plugins = _plugins(args)
     poses = _pose_flags(args)
@@ -516,8 +514,7 @@ def _cmd_check(args) -> int:
             bad += 1
             continue
         _emit(f"{path}: ok (scenario {sc.name}, {count(sc.n, 'obstacle')}, a feasible path "
-              f"exists under collision {st.collision}"
-              + ("" if st.turns == "tight-rope" else f", {st.turns} turns") + ")")
+              f"exists under {model_words(st.collision, st.turns)})")
     if args.ga and ga_ok:
         keys = _ga_file(args.ga)[0]
         shown = ", ".join(f"{k} = {v}" for k, v in keys.items()) or "no settings"
@@ -562,7 +559,7 @@ MAX_POSES = 1_000_000  # poses one export may write
 
 
 def _cmd_export(args) -> int:
-    from hga_jax.running.progress import count
+    from hga_jax.words import count
 
     from . import poses
     from .output import writable_folder

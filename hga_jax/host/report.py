@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import os
 from dataclasses import asdict
 from typing import Any
@@ -18,27 +17,18 @@ from typing import Any
 import numpy as np
 
 from hga_jax.errors import ConfigError
+from hga_jax.model import car_model
 from hga_jax.model.fitness import fitness_of, length_of_fitness
 from .output import csv_writer, figure_writer, json_writer, write_result
 from hga_jax.model.no_path import NO_PATH, verdict
 from hga_jax.model.touch import touch_list
-from hga_jax.running.progress import count
+from hga_jax.words import count, pct, touches
 from hga_jax.running.results import RunsResult, json_safe, optimum_dict, result_document
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 
 PAPER_NOTE = ("collision \"paper\": segments judged by the paper's Appendix B test, which "
               "misses a segment that starts or ends inside another model circle")
-
-
-def pct(x: float | None) -> str:
-    """A fraction as a percentage with two decimals (``"n/a"`` for None)."""
-    return "n/a" if x is None else f"{100 * x:.2f}%"
-
-
-def touches(touched: list[tuple[int, int]]) -> str:
-    """``"2CW 4CW 5CCW"`` from :class:`~hga_jax.model.touch.Touch` pairs (obstacles numbered from 1)."""
-    return " ".join(f"{k}{'CW' if s > 0 else 'CCW'}" for k, s in touched) or "no obstacle"
 
 
 def operators(st: GASettings) -> str:
@@ -55,9 +45,10 @@ def operators(st: GASettings) -> str:
 def _extras(st: GASettings) -> str:
     """The settings beyond the paper's, when set."""
     out = []
-    if st.free:
-        out.append(f"free turns: leg genes, {st.leg_crossover} crossover (pc {st.pc_legs:g}), "
-                   f"{st.leg_mutation} mutation (pm {st.pm_legs:g} per gene)")
+    for g in st.model.genes:  # what the car model adds to a chromosome
+        out.append(f"{st.model.words}: {g.words}, {getattr(st, g.crossover)} crossover "
+                   f"(pc {getattr(st, g.pc):g}), {getattr(st, g.mutation)} mutation "
+                   f"(pm {getattr(st, g.pm):g} per gene)")
     if st.path_mutation != "none":
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
     if st.seeding > 0:
@@ -104,9 +95,9 @@ def run_summary(res: RunsResult) -> str:
         f"{count(runs, 'run')}, median generation first reached {med:g}",
     ]
     if "optimum_length" in s:
-        what = "free-turn optimum" if s.get("optimum_turns") == "free" else "optimum"
+        model = car_model.get(res.optimum.turns)
         lines.append(
-            f"{what} {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
+            f"{model.optimum_name} {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
             f"({s['runs_hit']:,} of {count(runs, 'run')}); gap over the "
             f"{count(s['feasible_runs'], 'feasible run')}: "
             + (f"median {pct(s['gap_median'])}, mean {pct(s['gap_mean'])}, "
@@ -116,18 +107,7 @@ def run_summary(res: RunsResult) -> str:
                      + _generations(s["median_generation_within_1pct"], s["runs_within_1pct"],
                                     "within 1%") + "; "
                      + _generations(s["median_generation_hit"], s["runs_hit"], "the hit"))
-        opt = res.optimum
-        if opt.turns == "free":
-            reach = ("which the GA's leg genes express where a free circle joins two of the "
-                     "path's circles" if st.free else
-                     "which the GA's tight-rope paths cannot reach where it is shorter")
-            lines.append(f"the optimum is the free-turn one (turns in free space too), {reach}; "
-                         + _tight_rope_line(opt))
-        elif not opt.expressible:
-            alt = opt.best_expressible
-            lines.append("the optimal walk touches an obstacle twice, which no chromosome "
-                         "expresses; best chromosome path "
-                         + (f"{alt.length:.6f} m" if alt is not None else "unknown"))
+        lines += model.notes(res.optimum, st.model)
     elif res.optimum is not None:
         lines.append("optimum: " + no_path_line(res.optimum))
     if st.collision == "paper":
@@ -172,19 +152,10 @@ def exact_summary(scenario: Scenario, opt: Any) -> str:
                 f"{no_path_line(opt)}; {took}")
     head = (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}), collision "
             f"{opt.collision}: ")
-    text = head + f"optimum {opt.length:.6f} m touching {touches(opt.touched)}, {took}"
-    if opt.turns == "free":
-        text = head + (f"free-turn optimum {opt.length:.6f} m touching {touches(opt.touched)}"
-                       f", {count(opt.free_arcs, 'free arc')}, {took}\n"
-                       + _tight_rope_line(opt))
-        if opt.free_arcs:
-            return text
-    if opt.expressible:
-        text += f"\nchromosome: upper {_ints(opt.upper)}, lower {_ints(opt.lower)}"
-    else:
-        alt = opt.best_expressible
-        text += ("\nthe optimal walk touches an obstacle twice: no chromosome expresses it; "
-                 + (f"best chromosome path {alt.length:.6f} m" if alt else "no chromosome path"))
+    model = car_model.get(opt.turns)
+    text = head + (f"{model.optimum_name} {opt.length:.6f} m touching {touches(opt.touched)}"
+                   f"{model.head(opt)}, {took}")
+    text += "".join("\n" + line for line in model.notes(opt))
     if opt.collision == "paper":
         text += "\nnote: " + _full_test_note(scenario, opt.path or opt.best_expressible)
     return text
@@ -195,19 +166,6 @@ def no_path_line(opt: Any) -> str:
     return verdict(opt.collision, opt.turns, opt.message)
 
 
-def _tight_rope_line(opt: Any) -> str:
-    """The tight-rope optimum beside a free-turn one: its length and the ratio."""
-    tight = opt.tight_rope_length
-    if tight is None or not math.isfinite(tight):
-        return f"tight-rope optimum: {NO_PATH}"
-    if opt.length >= tight - 1e-9 * max(1.0, tight):
-        return f"tight-rope optimum {tight:.6f} m: the same path (no free turn shortens it)"
-    return (f"tight-rope optimum {tight:.6f} m; free turns are {100 * (1 - opt.length / tight):.2f}%"
-            f" shorter (ratio {opt.length / tight:.6f})")
-
-
-def _ints(values: list[int]) -> str:
-    return "[" + " ".join(str(int(v)) for v in values) + "]"
 
 
 def exact_json(scenario: Scenario, opt: Any, written: list[str]) -> dict[str, Any]:
@@ -365,7 +323,7 @@ def _shown(value: Any) -> str:
 def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
     """result.json of ``hga-jax exact``: the run schema with the optimum as best path."""
     path = opt.path.to_dict() if opt.feasible and opt.path is not None else None
-    if path is None and opt.feasible and opt.turns == "free":  # free arcs: no chromosome
+    if path is None and opt.feasible:  # a path no chromosome expresses (free arcs)
         path = {"length": opt.length, "feasible": True, "violations": 0, "upper": None,
                 "lower": None, "touched": touch_list(opt.touched), "segments": opt.segments,
                 "violations_at": []}
@@ -373,17 +331,10 @@ def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
         "seed": None, "runs": None, "settings": {"collision": opt.collision, "turns": opt.turns},
         "best": path, "optimum": optimum_dict(opt),
         "summary": {"optimum_length": opt.length if opt.feasible else None,
-                    "seconds": opt.seconds, **_free_summary(opt)},
+                    "seconds": opt.seconds,
+                    **(car_model.get(opt.turns).summary(opt) if opt.feasible else {})},
         "per_run": [],
     })
-
-
-def _free_summary(opt: Any) -> dict[str, Any]:
-    """Under free turns: the tight-rope optimum and the ratio of the two (else nothing)."""
-    tight = opt.tight_rope_length
-    if opt.turns != "free" or tight is None or not math.isfinite(tight) or not opt.feasible:
-        return {}
-    return {"tight_rope_length": tight, "free_to_tight_rope": opt.length / tight if tight else 1.0}
 
 
 def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False,
@@ -394,7 +345,7 @@ def write_exact(scenario: Scenario, opt: Any, out: str, plot: bool = False,
         from .plots import plot_path
 
         if opt.feasible:
-            what = "free-turn optimum" if opt.turns == "free" else "optimum"
+            what = car_model.get(opt.turns).optimum_name
             fig = plot_path(scenario, opt.segments, touched=opt.touched,
                             title=path_title(scenario.name, what, opt.length, 0,
                                              opt.collision))
@@ -470,11 +421,12 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
     sc = result_scenario(path, data)
     st_keys = data["settings"]
     collision = st_keys.get("collision", "full")
+    turns = st_keys.get("turns", car_model.DEFAULT)
     st = GASettings(**st_keys) if "population" in st_keys else None
     chosen = result_path(path, data, sc, run)
     if run is None:
-        what = (("free-turn optimum" if st_keys.get("turns") == "free" else "optimum")
-                if st is None or chosen is None else f"best (run {chosen.get('run')})")
+        what = (car_model.get(turns).optimum_name if st is None or chosen is None
+                else f"best (run {chosen.get('run')})")
     else:
         what = f"run {run}"
     if chosen is None:
@@ -488,7 +440,7 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
         if opt is None:
             from hga_jax.model.exact import solve
 
-            solved = solve(sc, collision)
+            solved = solve(sc, collision, turns)
             opt = {"feasible": solved.feasible, "length": solved.length,
                    "segments": solved.segments}
         if opt["feasible"]:
@@ -496,6 +448,6 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
         else:
             note = f"; optimum: {NO_PATH}"
     title = (path_title(sc.name, what, length, viol, collision, st) if length is not None
-             else f"{sc.name}: " + verdict(collision, st_keys.get("turns", "tight-rope")))
+             else f"{sc.name}: " + verdict(collision, turns))
     return plot_path(sc, segs, touched=touched, violations_at=where, optimum=overlay,
                      title=title + note)

@@ -29,7 +29,6 @@ are not joined. Units: metres and radians.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -39,7 +38,9 @@ import numpy as np
 
 from hga_jax.model import geometry as g
 from hga_jax.errors import ModelMismatchError
+from . import car_model
 from . import circle_ids as ids
+from .collision import COLLISIONS
 from . import tangent_graph
 from .graph_search import MAX_LABELS, Graph, search, walk
 from .path import Path, Touch, chromosome, evaluate_path, touch_list
@@ -66,8 +67,9 @@ class ExactResult:
       ``best_expressible`` is that path). segments: docs/model.md segments of the optimal walk.
     Infeasible scenes (every model alike, :func:`no_path`): ``feasible`` False, ``length``
       inf, ``expressible`` True, no paths, and ``message`` says why in a line.
-    turns: the model, ``"tight-rope"`` (the paper's) or ``"free"`` (turns on circles of
-      radius rho in free space too, :mod:`hga_jax.model.free_turns`). Under free turns
+    turns: the car model's name (:mod:`hga_jax.model.car_model`): ``"tight-rope"`` (the
+      paper's) or ``"free"`` (turns on circles of radius rho in free space too,
+      :mod:`hga_jax.model.free_turn_model`). Under free turns
       ``tight_rope_length`` is the tight-rope optimum (m) and ``free_arcs`` the number of
       free arcs on the path; a path with free arcs has no chromosome (``expressible``
       False, ``best_expressible`` the tight-rope optimum's path) and its arcs on free
@@ -87,7 +89,7 @@ class ExactResult:
     segments: list[dict[str, Any]] = field(default_factory=list)
     seconds: float = 0.0
     message: str = ""
-    turns: str = "tight-rope"
+    turns: str = car_model.DEFAULT
     tight_rope_length: float | None = None
     free_arcs: int = 0
 
@@ -103,13 +105,7 @@ class ExactResult:
             "best_expressible": None if best is None else best.to_dict(),
             "seconds": self.seconds, "collision": self.collision, "message": self.message,
             "segments": self.segments, "turns": self.turns,
-            **({} if self.turns == "tight-rope" else {
-                "tight_rope_length": _finite(self.tight_rope_length),
-                "free_arcs": self.free_arcs})}
-
-
-def _finite(x: float | None) -> float | None:
-    return None if x is None or not math.isfinite(x) else x
+            **car_model.get(self.turns).extras(self)}
 
 
 def _tangents(sa, full: bool):
@@ -129,7 +125,7 @@ def _tangents(sa, full: bool):
     return S, T, t, ok
 
 
-def _build(sc: Scenario, collision: str) -> Graph:
+def tight_rope_graph(sc: Scenario, collision: str) -> Graph:
     """The tangent graph of ``sc`` (:func:`hga_jax.model.tangent_graph.assemble`, the
     poses' circles travelled from the start point and to the goal point) with every
     infeasible piece left out."""
@@ -170,38 +166,29 @@ def _check_agreement(scenario: Scenario, path: Path | None, walk_length: float) 
         f"{path.upper} lower {path.lower}")
 
 
-TURNS = ("tight-rope", "free")
-
-
-def turns_problem(turns: Any, collision: str) -> str | None:
-    """What is wrong with the model of ``turns`` under ``collision`` (None: nothing): one
-    of :data:`TURNS`, and free turns only under the full collision test, whose arcs are
-    judged against the obstacles. The one rule for the solver, settings, runs and studies."""
-    if turns not in TURNS:
-        return f"must be one of {', '.join(TURNS)}, got {turns!r}"
-    if turns == "free" and collision != "full":
-        return ("free turns need the full collision test (the paper's judges no arc against "
-                f"an obstacle), got collision {collision!r}")
-    return None
-
-
-def solve(scenario: Scenario, collision: str = "full", turns: str = "tight-rope") -> ExactResult:
-    """The exact optimum of ``scenario`` under ``collision`` ("full" or "paper") and the
-    model of ``turns`` ("tight-rope", the paper's; "free": :func:`solve_free`)."""
-    if collision not in ("full", "paper"):
-        raise ValueError(f"collision: must be 'full' or 'paper', got {collision!r}")
-    problem = turns_problem(turns, collision)
+def solve(scenario: Scenario, collision: str = "full", turns: str = car_model.DEFAULT
+          ) -> ExactResult:
+    """The exact optimum of ``scenario`` under ``collision`` (``"full"`` or ``"paper"``)
+    in the car model ``turns`` (:func:`hga_jax.model.car_model.names`: ``"tight-rope"``,
+    the paper's, :func:`solve_tight_rope`; ``"free"``, free turns)."""
+    if collision not in COLLISIONS:
+        raise ValueError(f"collision: must be one of {', '.join(COLLISIONS)}, got {collision!r}")
+    problem = car_model.problem(turns, collision)
     if problem:
         raise ValueError(f"turns: {problem}")
-    if turns == "free":
-        return solve_free(scenario)
+    return car_model.get(turns).solve(scenario, collision)
+
+
+def solve_tight_rope(scenario: Scenario, collision: str = "full") -> ExactResult:
+    """The tight-rope optimum (module doc): the shortest walk in :func:`tight_rope_graph`,
+    re-checked by the decoder."""
     t0 = time.perf_counter()
-    gr = _build(scenario, collision)
+    gr = tight_rope_graph(scenario, collision)
     gx, gy = float(scenario.goal[0]), float(scenario.goal[1])
     h = np.hypot(gr.nx - gx, gr.ny - gy).tolist()
     walk_length, edges, _ = search(gr, h, distinct=False)
     if not edges:
-        return no_path(scenario, collision, "tight-rope", time.perf_counter() - t0, gr)
+        return no_path(scenario, collision, car_model.DEFAULT, time.perf_counter() - t0, gr)
     circs, segs = walk(gr, edges)
     obs, sg = gr.circles[4], gr.circles[3]
     touched = [Touch(int(obs[c]) + 1, int(sg[c])) for c in circs[1:-1]]
@@ -238,38 +225,4 @@ def no_path(scenario: Scenario, collision: str, turns: str, seconds: float,
     from .no_path import why
 
     return ExactResult(math.inf, False, collision, math.inf, True, None, None, [], None, None,
-                       seconds=seconds, message=why(scenario, collision, turns, gr), turns=turns,
-                       tight_rope_length=None if turns == "tight-rope" else math.inf)
-
-
-def solve_free(scenario: Scenario) -> ExactResult:
-    """The free-turn optimum (:mod:`hga_jax.model.free_turns`), with the tight-rope
-    optimum beside it. A path without free arcs that is no shorter than the tight-rope
-    optimum is that optimum (with its chromosome). ``seconds``: the free-turn search
-    alone. Raises :class:`ModelMismatchError` if the free-turn optimum were longer than
-    the tight-rope one (the free graph holds every tight-rope path: a bug)."""
-    from . import free_turns
-
-    tight = solve(scenario, "full")
-    t0 = time.perf_counter()
-    # Only what a path shorter than the tight-rope optimum can use (the bound is exact:
-    # every piece of that optimum is kept, so the search never returns longer).
-    bound = tight.length * (1.0 + 1e-9) + 1e-12
-    length, segs, touched, free = free_turns.shortest(scenario, bound)
-    spent = time.perf_counter() - t0
-    if not math.isfinite(length):  # no free-turn path, so no tight-rope one either
-        return no_path(scenario, "full", "free", spent)
-    if math.isfinite(tight.length) and not length <= tight.length + 1e-9 * max(1.0, tight.length):
-        raise ModelMismatchError(
-            f"{scenario.source}: the free-turn optimum ({length!r} m) is longer than the "
-            f"tight-rope optimum ({tight.length!r} m)")
-    if not free and length >= tight.length - 1e-9 * max(1.0, tight.length):
-        return dataclasses.replace(tight, turns="free", tight_rope_length=tight.length,
-                                   seconds=spent)
-    ratio = length / tight.length if math.isfinite(tight.length) else 0.0
-    message = (f"free turns: {free} free arc(s), {100 * (1 - ratio):.2f}% shorter than the "
-               "tight-rope optimum" if math.isfinite(tight.length) else
-               f"free turns: {free} free arc(s); no tight-rope path exists")
-    return ExactResult(length, True, "full", length, False, None, None, touched, None,
-                       tight.path or tight.best_expressible, segs, spent, message,
-                       turns="free", tight_rope_length=tight.length, free_arcs=free)
+                       seconds=seconds, message=why(scenario, collision, turns, gr), turns=turns)

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from . import car_model
 from . import circle_ids as ids
 from . import geometry as g
 from .graph_search import Graph, search
@@ -35,8 +36,10 @@ EDGES = (("left", 0, "x", -1), ("right", 1, "x", +1), ("bottom", 2, "y", -1),
 
 
 def model_words(collision: str, turns: str) -> str:
-    """``"collision full"``, or ``"collision full, free turns"``: the model a verdict is in."""
-    return f"collision {collision}" + ("" if turns == "tight-rope" else f", {turns} turns")
+    """``"collision full"``, or ``"collision full, free turns"``: the model a verdict is in
+    (the car model's :attr:`~hga_jax.model.car_model.CarModel.words`)."""
+    words = car_model.get(turns).words
+    return f"collision {collision}" + (f", {words}" if words else "")
 
 
 def verdict(collision: str, turns: str, reason: str = "") -> str:
@@ -46,29 +49,23 @@ def verdict(collision: str, turns: str, reason: str = "") -> str:
 
 def graph_of(sc: Scenario, collision: str, turns: str) -> Graph:
     """The model's tangent graph (every feasible piece) of ``sc``."""
-    if turns == "free":
-        from .free_turns import build
-
-        return build(sc)
-    from .exact import _build
-
-    return _build(sc, collision)
+    return car_model.get(turns).graph(sc, collision)
 
 
-def exists(sc: Scenario, collision: str = "full", turns: str = "tight-rope") -> bool:
+def exists(sc: Scenario, collision: str = "full", turns: str = car_model.DEFAULT) -> bool:
     """Whether the model holds a feasible path (its tangent graph joins start and goal).
-    No decoding, no JAX: milliseconds on the scenes of the paper. A free-turn path
-    exists wherever a tight-rope one does."""
-    if _joined(graph_of(sc, collision, "tight-rope")):
-        return True
-    return turns == "free" and _joined(graph_of(sc, collision, turns))
+    No decoding, no JAX: milliseconds on the scenes of the paper. The graphs of the
+    models it includes (a free-turn path exists wherever a tight-rope one does) are
+    tried first: they are smaller."""
+    model = car_model.get(turns)
+    return any(_joined(graph_of(sc, collision, name)) for name in model.includes + (turns,))
 
 
 def _joined(gr: Graph) -> bool:
     return bool(search(gr, [0.0] * gr.nx.size, distinct=False)[1])
 
 
-def why(sc: Scenario, collision: str = "full", turns: str = "tight-rope",
+def why(sc: Scenario, collision: str = "full", turns: str = car_model.DEFAULT,
         gr: Graph | None = None) -> str:
     """Why the model of ``sc`` holds no feasible path, in one line (the caller has found
     none). ``gr``: the model's graph if already built."""

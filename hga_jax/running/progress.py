@@ -1,4 +1,4 @@
-"""Progress of long jobs on stderr, and how counts are written.
+"""Progress of long jobs on stderr.
 
 The bar counts generations (of every batch of a job); it is drawn by tqdm, on
 stderr, so standard output carries only the results.
@@ -7,11 +7,6 @@ from __future__ import annotations
 
 import sys
 from typing import Any
-
-
-def count(k: int, noun: str, plural: str | None = None) -> str:
-    """``"1 run"``, ``"1,000 runs"``."""
-    return f"{k:,} {noun if k == 1 else plural or noun + 's'}"
 
 
 def bar(total: int, enabled: bool, what: str) -> Any:

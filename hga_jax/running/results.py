@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from hga_jax.model import car_model
 from hga_jax.model.path import Path, chromosome
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
@@ -24,6 +25,14 @@ HIT_GAP = 1e-6
 NEAR_GAP = 0.01
 ZERO_LENGTH = 1e-9  # metres: a path this short matches an optimum of 0 m
 SEARCH_SLACK = 1e-5  # metres: absolute slack on the search's own (float32) lengths
+
+
+def best_run(length, violations) -> int:
+    """The index of the best of several runs, the one rule of runs and study cells: the
+    shortest feasible path if any run has one, else the fewest violations, then the
+    shortest; ties go to the first run."""
+    length, violations = np.asarray(length, np.float64), np.asarray(violations)
+    return int(np.lexsort((np.arange(length.size), length, violations))[0])
 
 
 def gap_of(length, feasible, optimum: float) -> np.ndarray:
@@ -126,9 +135,7 @@ class RunsResult:
         if self.optimum_length is not None:
             gap = self.gap[self.feasible]  # infeasible runs are counted, not averaged
             near = self.first_generation_within(NEAR_GAP)
-            if getattr(self.optimum, "turns", "tight-rope") == "free":
-                out.update({"optimum_turns": "free",
-                            "tight_rope_length": self.optimum.tight_rope_length})
+            out.update(car_model.get(self.optimum.turns).summary(self.optimum))
             out.update({
                 "optimum_length": self.optimum_length,
                 "hit_rate": float(self.hit.mean()),

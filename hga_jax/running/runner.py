@@ -24,13 +24,12 @@ from hga_jax import compiled, validation
 from hga_jax.running import budget
 from hga_jax.errors import Interrupted
 from hga_jax.model.exact import solve
-from hga_jax.model.fitness import fitness_of
 from hga_jax.search import ga, registry
 from hga_jax.search.ga import Record, host_generation_keys
-from hga_jax.running.progress import bar as bar_of, count, tick
-from hga_jax.model import free_legs
+from hga_jax.running.progress import bar as bar_of, tick
+from hga_jax.words import count
 from hga_jax.model.path import decode64, evaluate_path
-from hga_jax.running.results import RunsResult
+from hga_jax.running.results import RunsResult, best_run
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 from hga_jax.search.settings import preset as presets
@@ -67,10 +66,10 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     the job within a block (:class:`~hga_jax.errors.Interrupted`); ``progress``
     shows a bar of generations on stderr. ``preset``: the name of the preset the
     settings were built on (:data:`hga_jax.search.settings.PRESETS`), recorded in the result.
-    ``turns``: the model the optimum is solved in, the yardstick of the gaps:
-    ``"tight-rope"`` (the paper's) or ``"free"`` (the car's shortest path,
-    :mod:`hga_jax.model.free_turns`; the full collision test only); None: the model the
-    GA searches (``settings.turns``). A tight-rope GA measured against the free-turn
+    ``turns``: the car model the optimum is solved in, the yardstick of the gaps
+    (:mod:`hga_jax.model.car_model`): ``"tight-rope"`` (the paper's) or ``"free"`` (the
+    car's shortest path; the full collision test only); None: the model the GA searches
+    (``settings.turns``). A tight-rope GA measured against the free-turn
     optimum shows how far its paths are from the car's shortest.
 
     In a multi-process job (after :func:`hga_jax.running.distributed.initialize`) every
@@ -118,11 +117,8 @@ def _result(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
     """The :class:`RunsResult` of searched runs: the best run's path in float64, the optimum."""
     t0 = time.perf_counter()
     runs = len(found.length)
-    # The best run: the shortest feasible path if any run has one, else the fittest.
     length, violations = found.length, found.violations
-    score = fitness_of(length, violations, scenario.delta)
-    pool = np.flatnonzero(violations == 0) if np.any(violations == 0) else np.arange(runs)
-    top = int(pool[np.argmax(score[pool])])
+    top = best_run(length, violations)
     best_path = evaluate_path(scenario, found.perm[top], found.labels[top], settings.collision,
                               None if found.legs is None else found.legs[top])
     optimum = solve(scenario, settings.collision, turns=turns) if exact else None
@@ -148,7 +144,7 @@ def resumed(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
     found = _Found(arrays["perm"], arrays["labels"], arrays["generation"], arrays["length"],
                    arrays["violations"], history, float(arrays["compile_s"]),
                    float(arrays["search_s"]), 0.0, arrays.get("legs"))
-    res = _result(scenario, like.settings, seed, first_run, found, False, "tight-rope",
+    res = _result(scenario, like.settings, seed, first_run, found, False, like.settings.turns,
                   like.preset, like.budget)
     res.optimum, res.devices = like.optimum, like.devices
     return res
@@ -166,7 +162,7 @@ def joined(parts: list[RunsResult]) -> RunsResult:
                    sum(p.compile_s for p in parts), sum(p.search_s for p in parts),
                    sum(p.finish_s for p in parts), None if first.legs is None else cat("legs"))
     res = _result(first.scenario, first.settings, first.seed, int(first.run_ids[0]), found,
-                  False, "tight-rope", first.preset, first.budget)
+                  False, first.settings.turns, first.preset, first.budget)
     res.optimum, res.devices, res.plugins = first.optimum, first.devices, first.plugins
     return res
 
@@ -197,7 +193,7 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                       np.zeros(0, np.int64), np.zeros(0, np.float64), np.zeros(0, np.int64),
                       {name: np.zeros((gens + 1, 0), dt)
                        for name, dt in _record_dtypes(dtype).items()}, 0.0, 0.0, 0.0,
-                      np.zeros((0, n + 2), np.int32) if settings.free else None)
+                      np.zeros((0, n + 2), np.int32) if settings.model.genes else None)
     cut = budget.plan(n, settings, runs, chunk, jax.local_device_count(), source="run_many")
     size = cut.chunk
     sharding = _sharding()
@@ -215,8 +211,8 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                         f"generations of {count(runs, 'run')}" if cut.batches == 1 else
                         f"generations of {cut.batches} batches of {count(size, 'run')}")
         with jax.enable_x64(dtype == np.float64):
-            sa = (free_legs.search_arrays(scenario, dtype, settings.uses_legs) if settings.free
-                  else scenario.search_arrays(dtype, settings.collision, settings.uses_legs))
+            sa = settings.model.search_arrays(scenario, dtype, settings.collision,
+                                              settings.uses_legs)
             t0 = time.perf_counter()
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))

@@ -32,15 +32,16 @@ generation 0, without elites (0: never restart). The best-so-far is kept.
 budget grows with the scene; :meth:`GASettings.for_obstacles` resolves it (the
 runner does, and records the rule in ``result.json``). 0 (the paper): a fixed count.
 
-``turns``: the model of turns the GA searches. ``"tight-rope"`` (the paper's): the
-chromosome is the permutation and the labels. ``"free"`` (the car's shortest path,
-full collision rule only): a third module of leg genes, one per position (0 a straight
-tangent to the next touched circle, 1 or 2 a free circle of radius rho joining the
-two, on one side or the other: :mod:`hga_jax.model.free_legs`), crossed over by
-``leg_crossover`` with probability ``pc_legs`` per pair and mutated by
-``leg_mutation`` with probability ``pm_legs`` per gene; it rides with the labels'
-``label_binding``. Under the tight rope the leg settings do nothing and the random
-stream is the paper's.
+``turns``: the car model the GA searches (:mod:`hga_jax.model.car_model`, the object
+:attr:`GASettings.model`). ``"tight-rope"`` (the paper's): the chromosome is the
+permutation and the labels. ``"free"`` (the car's shortest path, full collision rule
+only): the model adds a module of leg genes, one per position (0 a straight tangent to
+the next touched circle, 1 or 2 a free circle of radius rho joining the two, on one
+side or the other: :mod:`hga_jax.model.free_legs`), crossed over by ``leg_crossover``
+with probability ``pc_legs`` per pair and mutated by ``leg_mutation`` with probability
+``pm_legs`` per gene; it rides with the labels' ``label_binding``. Under a model
+without genes of its own the leg settings do nothing and the random stream is the
+paper's.
 
 ``penalty_weight`` scales the paper's penalty per violation
 ``2*pi*R`` during the search (1 = the paper); reported lengths, feasibility and
@@ -54,11 +55,12 @@ from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Sequence
 
 from hga_jax.errors import ConfigError
+from hga_jax.model import car_model
+from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
 BUDGET_BASE = 9
 """Obstacles (the paper's scene) up to which ``generations_per_obstacle`` adds nothing."""
-COLLISIONS = ("full", "paper")
 PRECISIONS = ("float32", "float64")
 
 
@@ -88,16 +90,17 @@ class GASettings:
     seeding: float = 0.0
     restart_after: int = 0
     generations_per_obstacle: int = 0
-    turns: str = "tight-rope"
+    turns: str = car_model.DEFAULT
     leg_crossover: str = "two_point"
     leg_mutation: str = "redraw"
     pc_legs: float = 0.4
     pm_legs: float = 0.02
 
     @property
-    def free(self) -> bool:
-        """Whether chromosomes carry leg genes (``turns = "free"``)."""
-        return self.turns == "free"
+    def model(self) -> car_model.CarModel:
+        """The car model the GA searches (``turns``): what it adds to a chromosome, its
+        device arrays, its exact optimum (:mod:`hga_jax.model.car_model`)."""
+        return car_model.get(self.turns)
 
     def for_obstacles(self, n: int) -> GASettings:
         """The settings of a run on ``n`` obstacles: ``generations`` raised by
@@ -174,7 +177,6 @@ class GASettings:
         if isinstance(w, bool) or not isinstance(w, (int, float)) or not (
                 math.isfinite(w) and w > 0):
             raise bad("penalty_weight", f"must be a finite number > 0, got {w!r}")
-        from hga_jax.model.exact import turns_problem
         from hga_jax.search import registry
 
         choices = [(kind, registry.names(kind)) for kind in registry.KINDS]
@@ -186,10 +188,11 @@ class GASettings:
             v = getattr(self, key)
             if v not in allowed:
                 raise bad(key, f"must be one of {', '.join(allowed)}, got {v!r}")
-        problem = turns_problem(self.turns, self.collision)
+        problem = car_model.problem(self.turns, self.collision)
         if problem:
-            raise bad("turns", problem + ("" if self.turns != "free" else
-                                          f" (from {origins.get('collision', 'the default')})"))
+            known = self.turns in car_model.names()  # then the collision test is the problem
+            raise bad("turns", problem + (f" (from {origins.get('collision', 'the default')})"
+                                          if known else ""))
 
     @classmethod
     def from_mapping(

@@ -73,7 +73,7 @@ def blank(problem: ScenarioArrays, settings: GASettings) -> GAState:
     runs), in the shapes and dtypes of every later state."""
     n, p = problem.centres.shape[0], settings.population
     dt = problem.centres.dtype
-    free = settings.free
+    free = bool(settings.model.genes)  # the car model adds a module of genes
     pop = Population(np.zeros((p, n), np.int32), np.zeros((p, n + 2), np.int32),
                      np.zeros(p, dt), np.zeros(p, dt), np.zeros(p, np.int32),
                      np.zeros((p, n + 2), np.int32) if free else None)

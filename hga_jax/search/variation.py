@@ -82,12 +82,23 @@ def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
              ("mutate_lower", _word_rows("label_mutation", n, settings)))
     if settings.path_mutation != "none":
         parts += (("mutate_path", 3),)
-    if settings.free:
-        parts += (("cross_legs", 3), ("mutate_legs", _word_rows("leg_mutation", n, settings)))
+    for genes in _genes(settings):
+        parts += ((f"cross_{genes.name}", 3),
+                  (f"mutate_{genes.name}", _word_rows(genes.mutation, n, settings)))
     out, row = {}, 0
     for name, rows in parts:
         out[name], row = (row, rows), row + rows
     return out
+
+
+def _genes(settings: GASettings):
+    """The gene modules the settings' car model adds to a chromosome (at most one: the
+    population holds it as ``legs``)."""
+    genes = settings.model.genes
+    if len(genes) > 1:
+        raise NotImplementedError(f"car model {settings.turns!r}: the GA holds one module of "
+                                  "added genes")
+    return genes
 
 
 def _fresh_rows(n: int, settings: GASettings) -> int:
@@ -100,7 +111,7 @@ def draw_rows(n: int, settings: GASettings) -> int:
     (``2n + 2``, 2 more with seeding, ``n + 2`` more under free turns) and for the
     later ones."""
     last = max(start + rows for start, rows in _layout(n, settings).values())
-    first = _fresh_rows(n, settings) + (n + 2 if settings.free else 0)
+    first = _fresh_rows(n, settings) + (n + 2) * len(_genes(settings))
     return max(first, last)
 
 
@@ -126,9 +137,9 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     perm = permutation.permutation_from_words(words[:n].T)
     labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
     genes = None
-    if settings is not None and settings.free:
+    for module in () if settings is None else _genes(settings):
         first = _fresh_rows(n, settings)
-        genes = leg_ops.legs_from_words(words[first:first + n + 2].T)
+        genes = leg_ops.genes_from_words(words[first:first + n + 2].T, module.weights)
     if settings is None or settings.seeding <= 0 or n == 0:
         return perm, labels, genes
     seeded = int(round(settings.seeding * perm.shape[0]))
@@ -175,7 +186,7 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
     else:
         idx = sel.fn(_keys(rows("select")[:, :1])[0], old.fitness, **sel.options(settings))
     perm, labels = old.perm[idx], old.labels[idx]
-    genes = None if old.legs is None else _vary_legs(rows, old.legs[idx], settings)
+    genes = None if old.legs is None else _vary_genes(rows, old.legs[idx], settings)
     if n >= 2:
         perm = _crossover(rows("cross_upper"), registry.get("perm_crossover", settings.perm_crossover),
                           settings.pc_upper, perm)
@@ -200,11 +211,14 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
     return perm, labels, genes
 
 
-def _vary_legs(rows, legs, settings: GASettings):
-    """The leg genes of the selected parents, crossed over and mutated (free turns)."""
-    legs = _crossover(rows("cross_legs"), registry.get("leg_crossover", settings.leg_crossover),
-                      settings.pc_legs, legs)
-    mut = registry.entry("leg_mutation", settings.leg_mutation)
+def _vary_genes(rows, genes, settings: GASettings):
+    """The added genes of the selected parents (the car model's gene module: leg genes
+    under free turns), crossed over and mutated by the operators and rates it names."""
+    (module,) = _genes(settings)
+    name, pc, pm = module.name, getattr(settings, module.pc), getattr(settings, module.pm)
+    cross = registry.get(module.crossover, getattr(settings, module.crossover))
+    genes = _crossover(rows(f"cross_{name}"), cross, pc, genes)
+    mut = registry.entry(module.mutation, getattr(settings, module.mutation))
     if mut.from_words is not None:
-        return mut.from_words(rows("mutate_legs").T, legs, settings.pm_legs)
-    return jax.vmap(lambda k, g: mut.fn(k, g, settings.pm_legs))(_keys(rows("mutate_legs")), legs)
+        return mut.from_words(rows(f"mutate_{name}").T, genes, pm)
+    return jax.vmap(lambda k, g: mut.fn(k, g, pm))(_keys(rows(f"mutate_{name}")), genes)

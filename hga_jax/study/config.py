@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from hga_jax import validation
+from hga_jax.model import car_model
 from hga_jax.peers.ompl_planner import PLANNERS
 from hga_jax.search.settings import PAPER, PRESETS, GASettings
 
@@ -121,7 +122,7 @@ class Study:
     analyses: list[str] = field(default_factory=list)
     description: str = ""
     quick: bool = False
-    yardstick: str = "tight-rope"
+    yardstick: str = car_model.DEFAULT
     cpu_devices: int | None = None
 
     def runs_of(self, config: Config) -> int:
@@ -339,7 +340,7 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
                 if any(c.label == o.label for o in configs):
                     raise _err(source, f"{key}[{i + 1}]", f"two configurations named {c.label!r}")
                 configs.append(c)
-    yardstick = data.get("yardstick", "tight-rope")
+    yardstick = data.get("yardstick", car_model.DEFAULT)
     for c in configs:  # free turns need the full collision test in every configuration
         validation.turns(yardstick, c.settings.collision, source, "yardstick")
     cpu = data.get("cpu_devices")

@@ -28,6 +28,7 @@ import numpy as np
 from hga_jax.host.config import scenario_from_dict
 from hga_jax.model import leg_space
 from hga_jax.model.exact import solve
+from hga_jax.model.free_turn_model import FREE_TURNS
 from . import clusters, scene_files
 
 KINDS = ("loops", "cluster_loops")
@@ -78,7 +79,7 @@ def draw(kind: str, rng: np.random.Generator, n: int, name: str) -> dict | None:
 
 def kept(sc) -> bool:
     """The keep rule of the module doc."""
-    free = solve(sc, turns="free")
+    free = solve(sc, turns=FREE_TURNS.name)
     tight = free.tight_rope_length
     if not (free.feasible and math.isfinite(tight)) or free.length > (1 - MIN_SAVING) * tight:
         return False

@@ -23,6 +23,7 @@ import pandas as pd
 from hga_jax.host.config import load_scenario
 
 from hga_jax.host.output import write_file, write_json
+from hga_jax.model import car_model
 from hga_jax.running.results import json_safe
 from . import figures, solvers, summary, table
 from .config import Study, load_study
@@ -234,11 +235,9 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
         table.write_parquet(j("summary.parquet"), pd.DataFrame(rows))
         md = summary.markdown(rows, f"Study {study.name}: {len(tab)} runs", skip, note,
                               summary.setup(study, scenes, docs))
-        if study.yardstick == "free":
-            md = md.replace("\n", "\n\nGaps and hits are measured against the free-turn "
-                            "optimum (turns in free space too), not the tight-rope one. "
-                            "Configurations with turns = \"free\" search free-turn chromosomes "
-                            "(leg genes); the others search tight-rope paths.\n", 1)
+        yardstick = car_model.get(study.yardstick).yardstick_note
+        if yardstick:
+            md = md.replace("\n", f"\n\n{yardstick}\n", 1)
         write_file(j("summary.md"), lambda fh: fh.write(md))
         table.write_csv(j("by_scene.csv"), pd.DataFrame(summary.by_scene(tab, labels)),
                         missing="nan")

@@ -22,12 +22,12 @@ import numpy as np
 
 from hga_jax.model.exact import solve
 from hga_jax.model.path import decode64, evaluate_path
-from hga_jax.running.results import HIT_GAP, gap_of
+from hga_jax.running.results import HIT_GAP, best_run, gap_of
 from hga_jax.running.runner import joined, run_many
 from . import anytime
 from .config import Config, Study
 from .scenes import Scene
-from .store import TARGETS, cell_document
+from .store import TARGETS, cell_document, tight_rope_optimum
 
 
 def run_cell(study: Study, config: Config, scene: Scene) -> dict[str, Any]:
@@ -109,8 +109,7 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
         "family": scene.family, "scenario_file": scene.path, "obstacles": scene.scenario.n,
         "seed": study.seed, "runs": n, "optimum": opt,
         "yardstick": optimum.turns if optimum is not None else None,
-        "tight_rope_optimum": (optimum.tight_rope_length if optimum is not None
-                               and optimum.turns == "free" else opt),
+        "tight_rope_optimum": tight_rope_optimum(optimum, opt),
         "optimum_touched": len(optimum.touched) if optimum is not None else None,
         "exact_s": optimum.seconds if optimum is not None else None,
         "compile_s": 0.0, "search_s": float(sum(r["time_s"] for r in rows)), "finish_s": 0.0,
@@ -125,7 +124,7 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
 
 def _best(rows: list[dict], gap: list[float]) -> dict[str, Any]:
     """The cell's best run: the shortest feasible path, else the fewest violations."""
-    i = min(range(len(rows)), key=lambda j: (rows[j]["violations"], rows[j]["length"]))
+    i = best_run([r["length"] for r in rows], [r["violations"] for r in rows])
     return {"run": i, "length": rows[i]["length"], "feasible": rows[i]["violations"] == 0,
             "violations": rows[i]["violations"]}
 

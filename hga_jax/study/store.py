@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from hga_jax import __version__
+from hga_jax.model import car_model
 from hga_jax.model.fitness import length_of_fitness
 from hga_jax.host.output import write_json
 from hga_jax.running.results import NEAR_GAP, RunsResult, gap_of, json_safe
@@ -31,13 +32,13 @@ QUANTILES = (25, 50, 75)
 
 
 def cell_id(config: Config, scene: Scene, seed: int, runs: int,
-            yardstick: str = "tight-rope") -> str:
+            yardstick: str = car_model.DEFAULT) -> str:
     """The cell's file name: a hash of what determines its runs and its gaps (the
     yardstick only when it is not the tight-rope optimum, and the solver only when it
     is not the batched HGA, so such ids stay as they were)."""
     key = {"settings": _identity(config.settings), "scene": scene.text,
            "seed": seed, "runs": runs, "version": __version__}
-    if yardstick != "tight-rope":
+    if yardstick != car_model.DEFAULT:
         key["yardstick"] = yardstick
     if config.solver != "hga" or not config.batch:
         key["solver"] = {"solver": config.solver, "planner": config.planner,
@@ -46,15 +47,25 @@ def cell_id(config: Config, scene: Scene, seed: int, runs: int,
     return hashlib.sha256(key.encode()).hexdigest()[:20]
 
 
-_LATER = ("turns", "leg_crossover", "leg_mutation", "pc_legs", "pm_legs")
-"""Settings added with free turns: left out of a tight-rope cell's id, which stays as it was."""
-
-
 def _identity(settings) -> dict[str, Any]:
+    """The settings that make a cell: a car model's name and the settings of the genes
+    it adds only where they are read (a cell of the paper's model keeps the id it had
+    before other models came)."""
     values = dataclasses.asdict(settings)
-    if settings.turns == "tight-rope":
-        values = {k: v for k, v in values.items() if k not in _LATER}
-    return values
+    unread = {k for name in car_model.names() for g in car_model.get(name).genes
+              for k in (g.crossover, g.mutation, g.pc, g.pm)}
+    unread -= {k for g in settings.model.genes for k in (g.crossover, g.mutation, g.pc, g.pm)}
+    if settings.turns == car_model.DEFAULT:
+        unread.add("turns")
+    return {k: v for k, v in values.items() if k not in unread}
+
+
+def tight_rope_optimum(optimum: Any, length: float | None) -> float | None:
+    """What a cell records as the tight-rope optimum: the one a model's optimum reports
+    beside its own (free turns), else the optimum's ``length`` itself."""
+    if optimum is None:
+        return length
+    return car_model.get(optimum.turns).summary(optimum).get("tight_rope_length", length)
 
 
 class Store:
@@ -139,8 +150,7 @@ def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full
         "family": scene.family, "scenario_file": scene.path, "obstacles": scene.scenario.n,
         "seed": res.seed, "runs": len(res.length), "optimum": opt,
         "yardstick": o.turns if o is not None else None,
-        "tight_rope_optimum": o.tight_rope_length if o is not None and o.turns == "free"
-        else opt,
+        "tight_rope_optimum": tight_rope_optimum(o, opt),
         "optimum_touched": len(o.touched) if o is not None else None,
         "exact_s": o.seconds if o is not None else None,
         "compile_s": res.compile_s, "search_s": res.search_s, "finish_s": res.finish_s,

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from hga_jax.model import car_model
 from . import stats
 from hga_jax.running.results import HIT_GAP
 
@@ -181,7 +182,7 @@ def setup(study, scenes, docs: list[dict[str, Any]]) -> str:
         for f, c in fams.items()])
     lines = [f"Seed {study.seed}: run k of every cell is run k of this seed. Scenes "
              f"({len(scenes)}): {fam}. Gaps are to the "
-             f"{'free-turn' if study.yardstick == 'free' else 'tight-rope'} optimum.", "",
+             f"{car_model.get(study.yardstick).adjective} optimum.", "",
              "Budget per run of each configuration:", ""]
     for c in study.configs:
         mine = [d for d in docs if d["config"] == c.label]

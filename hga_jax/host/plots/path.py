@@ -11,6 +11,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 
+from hga_jax.model import car_model
 from hga_jax.model.scenario import Scenario
 from .labels import place_labels
 from .style import C_ARC, C_BAD, C_FREE, C_GOAL, C_LINE, C_OPT, C_START, C_TOUCH, EDGE_PAD_PT
@@ -153,12 +154,11 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     drawn = []
     for seg in segments:
         xy = segment_points(seg)
-        kind = "free arc" if seg.get("free") else seg["type"]
+        kind, words = car_model.segment_kind(seg)  # a car model's own kinds: their own style
         style = (dict(color=C_ARC, lw=2.6, solid_capstyle="round") if kind == "arc"
-                 else dict(color=C_FREE, lw=2.6, ls=(0, (2, 1)), solid_capstyle="round")
-                 if kind == "free arc" else dict(color=C_LINE, lw=2.0))
-        label = "_nolegend_" if kind in kinds_seen else (
-            "free turn (radius $\\rho$)" if kind == "free arc" else f"path {kind}")
+                 else dict(color=C_LINE, lw=2.0) if kind == "line"
+                 else dict(color=C_FREE, lw=2.6, ls=(0, (2, 1)), solid_capstyle="round"))
+        label = "_nolegend_" if kind in kinds_seen else words or f"path {kind}"
         kinds_seen.add(kind)
         ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind.replace(" ", "_"), label=label, **style)
         pts.append(xy)

@@ -1,0 +1,186 @@
+"""Car models: what a path may be, one object per model behind one seam.
+
+A *car model* says which paths a car may drive among the obstacles: the paper's tight
+rope (turns on the model circles only, :mod:`hga_jax.model.tight_rope`) and free turns
+(turns on circles of radius rho in free space too, :mod:`hga_jax.model.free_turn_model`).
+Everything that differs between models is a method or an attribute of its
+:class:`CarModel`; the GA loop, the runner, the command line, studies, peers, plots and
+reports ask the model of the settings (``GASettings.model``) or of a result, and never
+test a model's name. A model:
+
+- names itself (``name``, the value of ``turns`` in settings, files and flags) and
+  says how messages name it (``words``, ``optimum_name``);
+- checks the settings it runs under (:meth:`CarModel.problem`);
+- builds the scenario's device arrays and tables for the search
+  (:meth:`CarModel.search_arrays`);
+- adds genes to a chromosome (``genes``: :class:`GeneModule`, each with the
+  :mod:`hga_jax.search.registry` kinds of its operators and the settings of their rates);
+- builds its tangent graph and solves its exact optimum (:meth:`CarModel.graph`,
+  :meth:`CarModel.solve`), and says what its optimum adds to a result
+  (:meth:`CarModel.extras`, :meth:`CarModel.notes`);
+- marks its own kinds of segment (``segment_flags``: keys such as ``"free"`` set on the
+  segments of the result files, :func:`segment_kind`).
+
+A new model is one module with a subclass and one :func:`register` call
+(docs/model.md, "Adding a car model"). Host code; nothing here imports JAX.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+DEFAULT = "tight-rope"
+"""The paper's model: the default of ``turns`` everywhere."""
+
+_MODELS: dict[str, "CarModel"] = {}
+
+
+@dataclass(frozen=True)
+class GeneModule:
+    """Genes a model adds to a chromosome: one per position (``n + 2``, as the labels,
+    and bound to positions or obstacles as the labels are), values ``0 .. len(weights) - 1``.
+
+    name: the field of the population and of results that holds them (``"legs"``).
+    weights: how often fresh chromosomes (generation 0, restarts) take each value, in
+    proportion (``(2, 1, 1)``: 0 half the time).
+    crossover, mutation: the :class:`~hga_jax.search.settings.GASettings` fields (and
+    :mod:`hga_jax.search.registry` kinds) naming their operators; pc, pm: the fields of
+    their rates (per pair, per gene). words: how summaries name the genes.
+    """
+
+    name: str
+    weights: tuple[int, ...]
+    crossover: str
+    mutation: str
+    pc: str
+    pm: str
+    words: str
+
+
+class CarModel:
+    """A car model (module doc). Subclasses set the attributes and implement the
+    methods that raise :class:`NotImplementedError`."""
+
+    name: str = ""
+    describe: str = ""
+    """One phrase for help texts: what paths the model holds."""
+    words: str = ""
+    """How a verdict names the model after its collision test (``"collision full,
+    free turns"``); empty for the paper's."""
+    optimum_name: str = "optimum"
+    """How summaries name the model's optimum."""
+    adjective: str = ""
+    """The model as an adjective: \"the tight-rope optimum\"."""
+    genes: tuple[GeneModule, ...] = ()
+    segment_flags: dict[str, str] = {}
+    """Keys this model sets on its own kinds of segment in the result files, each with
+    the words a legend gives them (``{"free": "free turn (radius rho)"}``)."""
+    includes: tuple[str, ...] = ()
+    """Models every one of whose paths this model holds too (a cheaper graph to try first)."""
+    yardstick_note: str = ""
+    """What a study's summary says when gaps are taken to this model's optimum."""
+
+    def problem(self, collision: str) -> str | None:
+        """What is wrong with this model under the collision test ``collision``
+        (None: nothing)."""
+        return None
+
+    def search_arrays(self, scenario: Any, dtype: Any, collision: str,
+                      with_legs: bool = False) -> Any:
+        """The scenario's :class:`~hga_jax.model.scenario.ScenarioArrays` for the search
+        in ``dtype``: with the tables of this model's fitness and, with ``with_legs``,
+        the legs the path operators read."""
+        raise NotImplementedError
+
+    def graph(self, scenario: Any, collision: str) -> Any:
+        """The model's tangent graph of every feasible piece
+        (:class:`~hga_jax.model.graph_search.Graph`)."""
+        raise NotImplementedError
+
+    def solve(self, scenario: Any, collision: str) -> Any:
+        """The model's exact optimum (:class:`~hga_jax.model.exact.ExactResult`)."""
+        raise NotImplementedError
+
+    def extras(self, optimum: Any) -> dict[str, Any]:
+        """Keys this model adds to an optimum's dict in the result files."""
+        return {}
+
+    def summary(self, optimum: Any) -> dict[str, Any]:
+        """Keys this model adds to a result's summary beside its optimum."""
+        return {}
+
+    def head(self, optimum: Any) -> str:
+        """What follows the optimum's length and touches in ``exact``'s first line."""
+        return ""
+
+    def notes(self, optimum: Any, searched: "CarModel | None" = None) -> list[str]:
+        """Lines a summary adds about a feasible optimum of this model: what no
+        chromosome expresses, how it compares with another model's; ``searched``: the
+        model the GA searched (None: ``exact``, which also prints the chromosome)."""
+        return []
+
+
+def segment_kind(segment: dict[str, Any]) -> tuple[str, str | None]:
+    """``(kind, legend words)`` of a result file's segment: ``("line", None)``, ``("arc",
+    None)``, or a kind a model marks with one of its ``segment_flags`` (``("free arc",
+    "free turn (radius rho)")``)."""
+    _builtins()
+    for model in _MODELS.values():
+        for flag, words in model.segment_flags.items():
+            if segment.get(flag):
+                return f"{flag} {segment['type']}", words
+    return segment["type"], None
+
+
+def register(model: CarModel) -> CarModel:
+    """Make ``model`` known by its name (one name, one model); returns it."""
+    if not model.name:
+        raise ValueError("a car model needs a name")
+    if _MODELS.get(model.name, model) is not model:
+        raise ValueError(f"a car model named {model.name!r} is already registered")
+    _builtins()  # the paper's model first, whoever registers first
+    _MODELS[model.name] = model
+    return model
+
+
+def _builtins() -> None:
+    """Register the built-in models (the paper's first), once."""
+    if _loaded:
+        return
+    _loaded.append(True)
+    import importlib
+
+    for module in ("tight_rope", "free_turn_model"):  # each registers its model
+        importlib.import_module(f"{__package__}.{module}")
+
+
+_loaded: list[bool] = []
+
+
+def names() -> tuple[str, ...]:
+    """The registered models' names, the paper's first: the allowed values of ``turns``."""
+    _builtins()
+    return tuple(_MODELS)
+
+
+def help_text() -> str:
+    """The registered models, each with its phrase: for ``--turns``' help."""
+    _builtins()
+    return "; ".join(f"{m.name} ({m.describe})" for m in _MODELS.values())
+
+
+def get(name: str) -> CarModel:
+    """The model named ``name``; ``ValueError`` naming the allowed values if none is."""
+    _builtins()
+    if name not in _MODELS:
+        raise ValueError(f"must be one of {', '.join(_MODELS)}, got {name!r}")
+    return _MODELS[name]
+
+
+def problem(name: Any, collision: str) -> str | None:
+    """What is wrong with the model ``name`` under ``collision`` (None: nothing): the
+    one rule for settings, the exact solver, runs and studies."""
+    _builtins()
+    if not isinstance(name, str) or name not in _MODELS:
+        return f"must be one of {', '.join(_MODELS)}, got {name!r}"
+    return _MODELS[name].problem(collision)
