@@ -100,6 +100,26 @@ def turns(value: Any, collision: str, source: str, key: str = "turns") -> str:
     return value
 
 
+def read_toml(path: Any) -> dict[str, Any]:
+    """The table of the TOML file ``path``; a ConfigError naming the file if it cannot be
+    read (``file: cannot read``), is not UTF-8 text or has a syntax error (``toml``):
+    the one reader of every file a user hands in (scenarios, ``--ga`` files, studies)."""
+    import tomllib
+
+    source = str(path)
+    try:
+        with open(path, "rb") as fh:
+            text = fh.read().decode("utf-8")
+    except OSError as e:
+        raise error(source, "file", f"cannot read: {e.strerror or e}") from None
+    except UnicodeDecodeError as e:
+        raise error(source, "file", f"not UTF-8 text: {e.reason} at byte {e.start}") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise error(source, "toml", f"syntax error: {e}") from None
+
+
 def strings(value: Any, source: str, key: str) -> list[str]:
     """``value`` if it is a list of non-empty strings (a TOML array), else a ConfigError."""
     if not isinstance(value, list) or not all(isinstance(s, str) and s for s in value):

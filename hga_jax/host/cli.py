@@ -39,7 +39,6 @@ import math
 import os
 import signal
 import sys
-import tomllib
 from typing import Any, Callable, Iterator, Sequence
 
 from hga_jax import __version__
@@ -273,13 +272,7 @@ def _output_args(p: argparse.ArgumentParser, default_out: str) -> None:
 def _ga_file(path: str) -> tuple[dict[str, Any], list[str]]:
     """A --ga file's settings (its top-level keys) and its ``plugins`` (paths relative
     to the file, joined to its folder; module names as written)."""
-    try:
-        with open(path, "rb") as fh:
-            table = tomllib.load(fh)
-    except OSError as e:
-        raise validation.error(path, "file", f"cannot read: {e.strerror or e}") from None
-    except tomllib.TOMLDecodeError as e:
-        raise validation.error(path, "toml", f"syntax error: {e}") from None
+    table = validation.read_toml(path)
     plugins = validation.strings(table.pop("plugins", []), path, "plugins")
     here = os.path.dirname(path)
     return table, [os.path.normpath(os.path.join(here, p)) if validation.is_file(p) else p

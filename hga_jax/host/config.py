@@ -22,7 +22,6 @@ reads them (summaries, plots, the chromosome's upper module, result files), so
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -192,15 +191,4 @@ def load_scenario(path: str | Path,
                   poses: Mapping[str, PoseOverride] | None = None) -> Scenario:
     """Load and validate a scenario TOML file (metres and degrees; see module doc);
     ``poses`` replace its start or goal (:func:`scenario_from_dict`)."""
-    source = str(path)
-    try:
-        text = Path(path).read_bytes().decode("utf-8")
-    except OSError as e:
-        raise _error(source, "file", f"cannot read: {e.strerror or e}") from None
-    except UnicodeDecodeError as e:
-        raise _error(source, "file", f"not UTF-8 text: {e.reason} at byte {e.start}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise _error(source, "toml", f"syntax error: {e}") from None
-    return scenario_from_dict(data, source, poses)
+    return scenario_from_dict(validation.read_toml(path), str(path), poses)

@@ -45,7 +45,6 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import os
-import tomllib
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
@@ -274,13 +273,7 @@ def load_study(path: str, quick: bool = False, scenes: int | None = None) -> Stu
     ``scenes`` keeps at most that many scenes per family and obstacle count (the first
     ones: a part of the full study, whose finished cells the full study reuses)."""
     source = str(path)
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except OSError as e:
-        raise _err(source, "file", f"cannot read: {e.strerror or e}") from None
-    except tomllib.TOMLDecodeError as e:
-        raise _err(source, "toml", f"syntax error: {e}") from None
+    data = validation.read_toml(path)
     if not data:
         raise _err(source, "file", "is empty (a study needs name, runs, and scenarios or "
                    "families)")
