@@ -18,7 +18,7 @@ from hga_jax.errors import ConfigError
 from hga_jax.model import free_legs, leg_space
 from hga_jax.model.decode import decode_batch
 from hga_jax.model.exact import solve
-from hga_jax.model.fitness import looked_up
+from hga_jax.model.fitness import evaluate, looked_up
 from hga_jax.model.path import decode64, evaluate_path, legs_from_list, segments_length
 from hga_jax.running.runner import run_many
 from hga_jax.search.settings import PAPER, RECOMMENDED, GASettings
@@ -227,3 +227,41 @@ def test_loop_families_take_no_density_and_the_study_file_loads(tmp_path):
     study = load_study("configs/studies/free_turns.toml")
     assert study.yardstick == "free" and [f.kind for f in study.families] == list(loops.KINDS)
     assert [c.settings.turns for c in study.configs] == ["free", "free", "tight-rope"]
+
+
+def _u_turn(rng, rho=0.25):
+    """The goal 2 rho to the start's left, facing back: the start's and the goal's left
+    circles coincide, and their right circles are 4 rho apart, so the free leg between
+    the right circles (either side) is the U-turn itself: half the left circle."""
+    th = rng.uniform(0.0, 2.0 * math.pi)
+    x0, y0 = 1.2 + rng.uniform(-0.1, 0.1), 1.0 + rng.uniform(-0.1, 0.1)
+    nx, ny = -math.sin(th), math.cos(th)
+    return scenario_from_dict({
+        "name": "u_turn", "robot": {"radius": 0.09, "min_turn_radius": rho},
+        "start": {"x": x0, "y": y0, "heading_deg": math.degrees(th)},
+        "goal": {"x": x0 + 2 * rho * nx, "y": y0 + 2 * rho * ny,
+                 "heading_deg": math.degrees(th + math.pi)},
+        "obstacles": [{"x": x0 - 2.0 * nx, "y": y0 - 2.0 * ny, "radius": 0.05}]}, "u_turn")
+
+
+def test_u_turn_free_leg_agrees_in_float32_and_float64():
+    """The fuzz finding: on a U-turn with coincident start and goal circles, a free leg
+    between the right circles is pinned by two circles that touch; the square root of
+    the pinned centre blew rounding up to 1e-8 m, so the contact point fell behind the
+    start point and float64 drove a whole extra circle (an obstacle hit) that float32
+    did not. Touching circles now meet in one point: both precisions give the U-turn,
+    pi rho long and feasible, at every rotation."""
+    rng = np.random.default_rng(404)
+    ev = jax.jit(evaluate, static_argnames="collision")
+    for _ in range(40):
+        sc = _u_turn(rng)
+        perm = np.tile(np.arange(sc.n, dtype=np.int32), (2, 1))
+        labels = np.tile(np.array([1] + [0] * sc.n + [1], np.int32), (2, 1))
+        legs = np.zeros_like(labels)
+        legs[:, 0] = [1, 2]  # the free leg on either side: one circle, as they touch
+        d64 = decode64(sc, perm, labels, "full", legs)
+        np.testing.assert_allclose(d64.length, math.pi * 0.25, rtol=0, atol=1e-9)
+        assert np.all(d64.violations == 0)
+        e = ev(free_legs.search_arrays(sc, np.float32), perm, labels, "full", legs)
+        np.testing.assert_allclose(np.asarray(e.length), math.pi * 0.25, rtol=0, atol=1e-5)
+        assert np.all(np.asarray(e.violations) == 0)

@@ -84,7 +84,7 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),
-    "turns": (str, car_model.names(), "the car model the GA searches and the optimum it is "
+    "turns": (str, "models", "the car model the GA searches and the optimum it is "
               "measured against: " + car_model.help_text()),
     "pc_legs": (float, None, "crossover probability per pair of parents, leg genes"),
     "pm_legs": (float, None, "mutation probability per gene, leg genes"),
@@ -135,10 +135,11 @@ def _parser() -> argparse.ArgumentParser:
     g = run.add_argument_group("GA settings", "override the scenario's [ga] table and --ga; "
                                "unset flags keep those (the paper's value is shown)")
     for key, (kind, choices, text) in GA_FLAGS.items():
-        # Operators are checked after parsing (GASettings reads the registry, which a
-        # --plugin adds to); the help lists the ones registered now.
-        named = choices == "registry"
-        tail = (f"; registered: {', '.join(registry.names(key))}, or one a --plugin registers"
+        # Operators and car models are checked after parsing (GASettings reads their
+        # registries, which a --plugin adds to); the help lists the ones registered now.
+        named = choices in ("registry", "models")
+        known = registry.names(key) if choices == "registry" else car_model.names()
+        tail = (f"; registered: {', '.join(known)}, or one a --plugin registers"
                 if named else "")
         g.add_argument(validation.flag(key), type=kind, choices=None if named else choices,
                        metavar="NAME" if named else None if choices else (
@@ -177,8 +178,9 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("scenario", help="scenario TOML file")
     ex.add_argument("--collision", choices=COLLISIONS,
                     help="collision test (default: the scenario's [ga] collision, else full)")
-    ex.add_argument("--turns", choices=car_model.names(), default=car_model.DEFAULT,
-                    help="the car model: " + car_model.help_text())
+    ex.add_argument("--turns", metavar="NAME", default=car_model.DEFAULT,
+                    help="the car model: " + car_model.help_text() + "; or one a --plugin "
+                    "registers")
     _pose_args(ex)
     _plugin_arg(ex)
     _output_args(ex, "results/<scenario file name>-exact")

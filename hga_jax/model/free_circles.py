@@ -31,14 +31,20 @@ TOL = g.tolerances(np.float64)
 
 def pair_centres(ax, ay, ra, bx, by, rb):
     """Centres at distance ``ra`` from A and ``rb`` from B (circle intersections),
-    both solutions; rows without one are dropped. Returns ``(x, y, i)`` with ``i``
+    both solutions (one point, twice, where the two circles touch to within
+    ``TOL.eps``); rows without one are dropped. Returns ``(x, y, i)`` with ``i``
     the index of the pair each centre came from."""
     dx, dy = bx - ax, by - ay
     d = np.hypot(dx, dy)
-    ok = (d > TOL.eps) & (d <= ra + rb) & (d >= np.abs(ra - rb))
+    # Circles within TOL.eps of touching meet in one point, whichever way rounding
+    # went: the square root would blow rounding up (1e-16 to 1e-8 m), and a free circle
+    # that exists or not, or a contact point 1e-8 m behind a pose (a sweep of 0 in
+    # float32, a whole circle in float64), would make the precisions disagree.
+    ok = (d > TOL.eps) & (d <= ra + rb + TOL.eps) & (d >= np.abs(ra - rb) - TOL.eps)
     d = np.where(ok, d, 1.0)
     along = (ra * ra - rb * rb + d * d) / (2.0 * d)
-    h = np.sqrt(np.maximum(ra * ra - along * along, 0.0))
+    touching = (d >= ra + rb - TOL.eps) | (d <= np.abs(ra - rb) + TOL.eps)
+    h = np.where(touching, 0.0, np.sqrt(np.maximum(ra * ra - along * along, 0.0)))
     mx, my = ax + along * dx / d, ay + along * dy / d
     out = [(mx + s * h * -dy / d, my + s * h * dx / d) for s in (1.0, -1.0)]
     idx = np.flatnonzero(ok)

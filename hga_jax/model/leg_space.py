@@ -21,10 +21,11 @@ from .touch import Touch
 from .scenario import Scenario
 
 
-def shortest(sc: Scenario):
-    """The best path a chromosome with free legs expresses: ``(length, segments, touched,
-    free_arcs)`` as :func:`hga_jax.model.free_turns.shortest` (inf and empty lists when
-    none is feasible or the label budget of the search runs out)."""
+def graph(sc: Scenario):
+    """The tangent graph of the leg space: the scenario's clear tangents, then the clear
+    free legs (each a piece standing for its free arc), the poses' circles as rings, each
+    piece counted as entering its target's obstacle. Returns ``(graph, tangents, legs)``:
+    the number of tangent pieces and the :class:`~hga_jax.model.free_legs.FreeLegs`."""
     from .exact import _tangents
 
     sa = sc.arrays(np.float64)
@@ -36,7 +37,15 @@ def shortest(sc: Scenario):
     pieces = (np.r_[S[ok], legs.S], np.r_[T[ok], legs.T], np.r_[t.p1x[ok], legs.p1x],
               np.r_[t.p1y[ok], legs.p1y], np.r_[t.p2x[ok], legs.p2x], np.r_[t.p2y[ok], legs.p2y],
               np.r_[t.length[ok], rho * legs.sweep])
-    gr = free_turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]])
+    return free_turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]]), e, legs
+
+
+def shortest(sc: Scenario):
+    """The best path a chromosome with free legs expresses: ``(length, segments, touched,
+    free_arcs)`` as :func:`hga_jax.model.free_turns.shortest` (inf and empty lists when
+    none is feasible or the label budget of the search runs out)."""
+    gr, e, legs = graph(sc)
+    circ, rho = gr.circles, float(sc.min_turn_radius)
     h = np.hypot(gr.nx - float(sc.goal[0]), gr.ny - float(sc.goal[1])).tolist()
     length, edges, _ = search(gr, h, distinct=True)
     if not edges:
@@ -49,7 +58,7 @@ def shortest(sc: Scenario):
         if gr.arc_circle[k] >= 0 or gr.w[k] <= 0.0:
             continue
         i = next(lines)
-        if ids.POSES + e <= u < ids.POSES + len(pieces[0]):  # a free leg: its free arc
+        if ids.POSES + e <= u < ids.POSES + e + len(legs.S):  # a free leg: its free arc
             j = u - ids.POSES - e
             segs[i] = {"type": "arc", "center": [float(legs.fx[j]), float(legs.fy[j])],
                        "radius": rho, "sweep": float(-legs.sign[j] * legs.sweep[j]),

@@ -108,9 +108,10 @@ def names(kind: str) -> tuple[str, ...]:
 def builtin_only(settings: Any) -> bool:
     """Whether every operator ``settings`` (a GASettings) names is built in: its
     programs then depend on hga_jax's code alone (:mod:`hga_jax.compiled` stores
-    those on disk)."""
+    those on disk), when its car model is built in too."""
     builtin = {(k, name) for k, name, *_ in BUILTINS}
-    return all((kind, getattr(settings, kind)) in builtin for kind in KINDS)
+    return (type(settings.model).__module__.startswith("hga_jax.")
+            and all((kind, getattr(settings, kind)) in builtin for kind in KINDS))
 
 
 def entry(kind: str, name: str) -> Operator:
