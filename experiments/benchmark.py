@@ -14,6 +14,10 @@ What it measures (the paper's GA settings: population 50, 50 generations):
 - memory: peak RSS (the process's high-water mark) of one ``run_many`` call of
   10,000 and of 100,000 runs, each in a fresh process;
   ``--million`` adds 1,000,000 runs done in chunks of 100,000 (progress on stderr);
+- models: R = 1,000 runs on ``robocup_paper`` per preset (paper, recommended) and car
+  model (``hga_jax.model.car_model.names()``): the median search time and a
+  fingerprint of the runs' arrays (perm, labels, leg genes, lengths, violations), so
+  that two checkouts can be compared side by side (same fingerprint: the same runs);
 - DEAP: the same GA written with DEAP (:mod:`hga_jax.peers.deap_ga`, its
   fitness from a pure-Python decoder) on ``robocup_paper``, median wall time per
   run, and the ratio to hga-jax's search time per run at R = 10,000 (float32).
@@ -28,7 +32,7 @@ calibration times.
 
 Usage (from the repository root)::
 
-    python3 experiments/benchmark.py [--quick] [--only runs sizes memory deap]
+    python3 experiments/benchmark.py [--quick] [--only runs sizes models memory deap]
         [--runs 1 100 1000 10000] [--sizes 25 50 100] [--precisions float32 float64]
         [--repeats 3] [--deap-runs 20] [--million] [--cpu-devices N]
         [--out results/benchmark/benchmark.json]
@@ -138,6 +142,29 @@ def bench_case(sc, runs: int, precision: str, repeats: int, seed: int = 0) -> di
             "per_run_s": med / runs, "calibration_s": cal}
 
 
+def model_case(sc, preset_name: str, turns: str, runs: int, repeats: int) -> dict[str, Any]:
+    """``runs`` runs of a preset under a car model: compile, then ``repeats`` timed
+    searches; the fingerprint (sha256, 16 hex digits) of the runs' arrays."""
+    import hashlib
+
+    from hga_jax.search.settings import preset
+
+    settings = preset(preset_name).replace(turns=turns)
+    cal = calibration()
+    results = [run_many(sc, settings, seed=0, runs=runs, exact=False) for _ in range(repeats + 1)]
+    res = results[-1]
+    arrays = (res.perm, res.labels, res.length, res.violations) + (
+        () if res.legs is None else (res.legs,))
+    fingerprint = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes()
+                                          for a in arrays)).hexdigest()[:16]
+    search = [r.search_s for r in results[1:]]
+    med = statistics.median(search)
+    evaluations = runs * settings.population * (settings.for_obstacles(sc.n).generations + 1)
+    return {"preset": preset_name, "turns": turns, "runs": runs, "search_s": search,
+            "search_median_s": med, "evaluations_per_s": evaluations / med,
+            "fingerprint": fingerprint, "calibration_s": cal}
+
+
 def memory_case(runs: int) -> dict[str, Any]:
     """Peak RSS of ``runs`` runs of the paper's setting, measured in a fresh process."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(hga_jax.__file__)))
@@ -241,8 +268,8 @@ def parse(argv=None) -> argparse.Namespace:
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog="See the module docstring for what each part measures.")
     p.add_argument("--quick", action="store_true", help="a fast smoke run of every part")
-    p.add_argument("--only", nargs="+", choices=("runs", "sizes", "memory", "deap"),
-                   default=["runs", "sizes", "memory", "deap"], help="parts to run")
+    p.add_argument("--only", nargs="+", choices=("runs", "sizes", "models", "memory", "deap"),
+                   default=["runs", "sizes", "models", "memory", "deap"], help="parts to run")
     p.add_argument("--runs", type=int, nargs="+", help="run counts at n = 9 (1 100 1000 10000)")
     p.add_argument("--sizes", type=int, nargs="+", help="obstacle counts at R = 1000 (25 50 100)")
     p.add_argument("--size-runs", type=int, help="runs per size case (1000)")
@@ -307,6 +334,20 @@ def main(argv=None) -> int:
         print("(compile s near 0: an earlier case compiled the same batch shape; large jobs "
               "run in batches of one shape)")
     report["cases"] = cases
+    report["models"] = []
+    if "models" in args.only:
+        from hga_jax.model import car_model
+
+        runs = 100 if args.quick else 1000
+        print(f"\npresets x car models, robocup_paper, {runs:,} runs; search: median of "
+              f"{args.repeats} after a first call", flush=True)
+        print(f"{'preset':<12} {'turns':<11} {'search s':>9} {'evals/s':>12}  fingerprint")
+        for name in ("paper", "recommended"):
+            for turns in car_model.names():
+                m = model_case(paper_scene(), name, turns, runs, args.repeats)
+                report["models"].append(m)
+                print(f"{name:<12} {turns:<11} {m['search_median_s']:9.3f} "
+                      f"{m['evaluations_per_s']:12,.0f}  {m['fingerprint']}", flush=True)
     report["memory"] = []
     if "memory" in args.only:
         counts = list(args.memory_runs) + ([MILLION] if args.million else [])
