@@ -32,10 +32,13 @@ class Graph(NamedTuple):
     src: np.ndarray
     arc_circle: np.ndarray
     sweep: np.ndarray
+    starts: tuple[int, ...] = ids.START  # the nodes a walk may begin at: the start point
+    goals: tuple[int, ...] = ids.GOAL  # on each start circle; it ends at a goal node
 
 
 def search(gr: Graph, h: list[float], distinct: bool) -> tuple[float, list[int], bool]:
-    """A* from the start nodes (0, 1) to a goal node (2, 3); edges of the best walk.
+    """A* from the start nodes (``gr.starts``: 0, 1) to a goal node (``gr.goals``: 2, 3);
+    edges of the best walk.
 
     With ``distinct`` the state carries the set of entered obstacles (a bit mask)
     and no obstacle is entered twice (labels dominated by a settled subset are
@@ -43,9 +46,10 @@ def search(gr: Graph, h: list[float], distinct: bool) -> tuple[float, list[int],
     exists (``complete``) or the label budget ran out (not ``complete``).
     """
     indptr, dst, w, enter = gr.indptr, gr.dst, gr.w, gr.enter
-    heap = [(h[s], 0.0, s, 0, -1) for s in ids.START]
+    heap = [(h[s], 0.0, s, 0, -1) for s in gr.starts]
+    goals = frozenset(gr.goals)
     labels: list[tuple[int, int]] = []  # (edge into this label, parent label)
-    best: dict[tuple[int, int], float] = {(s, 0): 0.0 for s in ids.START}
+    best: dict[tuple[int, int], float] = {(s, 0): 0.0 for s in gr.starts}
     settled: dict[int, list[int]] = {}
     pops = 0
     while heap and pops < MAX_LABELS:
@@ -58,7 +62,7 @@ def search(gr: Graph, h: list[float], distinct: bool) -> tuple[float, list[int],
                 continue
             done.append(m)
             pops += 1
-        if ids.is_goal(u):
+        if u in goals:
             edges = []
             while lab >= 0:
                 edges.append(labels[lab][0])

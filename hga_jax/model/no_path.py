@@ -24,7 +24,6 @@ import math
 import numpy as np
 
 from . import car_model
-from . import circle_ids as ids
 from . import geometry as g
 from .graph_search import Graph, search
 from .scenario import Scenario
@@ -74,9 +73,10 @@ def why(sc: Scenario, collision: str = "full", turns: str = car_model.DEFAULT,
         if facing:
             return facing
     gr = graph_of(sc, collision, turns) if gr is None else gr
-    for pose, nodes, forward in (("start", ids.START, True), ("goal", ids.GOAL, False)):
+    for pose, nodes, forward in (("start", gr.starts, True), ("goal", gr.goals, False)):
         seen = _reach(gr, nodes, forward)
-        if np.all(ids.is_pose(np.asarray(gr.ncirc)[sorted(seen)])):
+        poses = np.asarray(gr.ncirc)[list(gr.starts + gr.goals)]  # the poses' circles
+        if np.all(np.isin(np.asarray(gr.ncirc)[sorted(seen)], poses)):
             return _boxed(sc, pose, collision)
     return ("paths leave the start and reach the goal, but none joins them: obstacles "
             f"and the field's edges leave no way through for a car turning at rho = "

@@ -67,7 +67,7 @@ def _from_x(circ, c, px, py):
     return g.sweep(np.ones(c.size), np.zeros(c.size), px - x[c], py - y[c], sg[c], TOL.angle)
 
 
-def _ends(circ, sa, nx, ny, ncirc):
+def _ends(circ, sa, nx, ny, ncirc, coincident=None):
     """Arc pairs of ``poses = "ends"`` (module doc)."""
     x, y = circ[0], circ[1]
     node = np.arange(nx.size)
@@ -82,67 +82,89 @@ def _ends(circ, sa, nx, ny, ncirc):
     a, b = ring(ncirc, key, tie, node)
     legal = ~ids.is_start(b) & ~ids.is_goal(a)  # no arc into the start, out of the goal
     a, b = a[legal], b[legal]
-    same = np.hypot(x[:2] - x[2:4], y[:2] - y[2:4]) < TOL.eps
-    return a, b, ncirc[a], same
+    same = np.hypot(x[:2] - x[2:4], y[:2] - y[2:4]) < TOL.eps if coincident is None \
+        else np.asarray(coincident, bool)
+    ac = ncirc[a]
+    for s_c in np.flatnonzero(same):  # a start circle that is a goal circle: on the goal's
+        g_c = ids.GOAL[0] + s_c
+        a, b, ac = np.r_[a, s_c], np.r_[b, g_c], np.r_[ac, g_c]
+    return a, b, ac
 
 
-def _rings(circ, sa, nx, ny, ncirc):
-    """Arc pairs of ``poses = "rings"`` (module doc)."""
-    x, y = circ[0], circ[1]
+def _rings(circ, sa, nx, ny, ncirc, pose_nodes):
+    """Arc pairs of ``poses = "rings"`` (module doc); ``pose_nodes``: ``(node, is_start)``
+    of every pose point (the last ones after the pieces' ends)."""
+    x, y, r, sg = circ[:4]
     node = np.arange(nx.size)
-    ring_nodes = node[ids.POSES:]
+    ring_nodes = np.setdiff1d(node, [k for k, _ in pose_nodes])
     key = np.zeros(nx.size)
     key[ring_nodes] = _from_x(circ, ncirc[ring_nodes], nx[ring_nodes], ny[ring_nodes])
     a, b = ring(ncirc, key, node, ring_nodes)
     a, b = [a], [b]
     order = ring_nodes[np.lexsort((ring_nodes, key[ring_nodes], ncirc[ring_nodes]))]
     co = ncirc[order]
-    for pose in range(ids.POSES):
-        on = order[co == pose]
+    for pose, is_start in pose_nodes:
+        on = order[co == ncirc[pose]]
         if not on.size:
             continue
-        here = np.full(on.size, pose)
-        if ids.is_start(pose):  # the start point to the first node after it
-            swp = _sweep(circ, here, nx[here], ny[here], nx[on], ny[on])
+        here, c = np.full(on.size, pose), np.full(on.size, ncirc[pose])
+        if is_start:  # the start point to the first node after it
+            swp = _sweep(circ, c, nx[here], ny[here], nx[on], ny[on])
             a.append(here[:1])
             b.append(on[np.argmin(swp)][None])
         else:  # the last node before the goal point to it
-            swp = _sweep(circ, here, nx[on], ny[on], nx[here], ny[here])
+            swp = _sweep(circ, c, nx[on], ny[on], nx[here], ny[here])
             a.append(on[np.argmin(swp)][None])
             b.append(here[:1])
     a, b = np.concatenate(a).astype(np.int64), np.concatenate(b).astype(np.int64)
-    same = np.hypot(x[:2] - x[2:4], y[:2] - y[2:4]) < TOL.eps
-    return a, b, ncirc[a], same
+    ac = ncirc[a]
+    for s_n, s_start in pose_nodes:  # a start circle that is a goal circle (same turn)
+        for g_n, g_start in pose_nodes:
+            c, d = ncirc[s_n], ncirc[g_n]
+            if s_start and not g_start and sg[c] == sg[d] and abs(r[c] - r[d]) < TOL.eps \
+                    and np.hypot(x[c] - x[d], y[c] - y[d]) < TOL.eps:
+                a, b, ac = np.r_[a, s_n], np.r_[b, g_n], np.r_[ac, c]
+    return a, b, ac
 
 
 def assemble(sa, circ, pieces, poses: str, collision: str = "full", enter=None,
-             coincident=None) -> Graph:
+             coincident=None, more_poses=()) -> Graph:
     """The tangent graph (module doc) over the circles ``circ`` of float64 scenario
     arrays ``sa`` from its feasible straight ``pieces`` ``(S, T, p1x, p1y, p2x, p2y,
     length)``; arcs judged under ``collision``. ``enter``: per piece the obstacle it
     enters (a search that enters each obstacle once counts them), else -1 for all.
-    ``coincident``: which start circles (0, 1) coincide with the goal circle of their
-    sign and get the arc from the start point to the goal point (default: measured)."""
+    ``coincident`` (``"ends"``): which start circles (0, 1) coincide with the goal circle
+    of their sign and get the arc from the start point to the goal point (default:
+    measured). ``more_poses`` (``"rings"``): ``(circle, is_start)`` of more circles a
+    walk may begin on at the start point or end on at the goal point (a car that also
+    reverses leaves its pose on its turning circles travelled the other way); their
+    pose nodes come after the pieces' ends, and the graph's ``starts`` and ``goals``
+    list them."""
     x, y, r, sg, own = circ
     S, T, p1x, p1y, p2x, p2y, tlen = pieces
     e = S.size
     st, gl = sa.start, sa.goal
-    nx = np.concatenate([[st[0]] * 2, [gl[0]] * 2, p1x, p2x])
-    ny = np.concatenate([[st[1]] * 2, [gl[1]] * 2, p1y, p2y])
-    ncirc = np.concatenate([np.arange(ids.POSES), S, T])
+    extra = [st if is_start else gl for _, is_start in more_poses]
+    nx = np.concatenate([[st[0]] * 2, [gl[0]] * 2, p1x, p2x, [p[0] for p in extra]])
+    ny = np.concatenate([[st[1]] * 2, [gl[1]] * 2, p1y, p2y, [p[1] for p in extra]])
+    ncirc = np.concatenate([np.arange(ids.POSES), S, T, [c for c, _ in more_poses]]
+                           ).astype(np.int64)
+    pose_nodes = [(k, bool(ids.is_start(k))) for k in range(ids.POSES)] + [
+        (ids.POSES + 2 * e + k, is_start) for k, (_, is_start) in enumerate(more_poses)]
     if poses not in POSES:
         raise ValueError(f"poses: must be one of {', '.join(POSES)}, got {poses!r}")
-    a, b, ac, same = (_ends if poses == "ends" else _rings)(circ, sa, nx, ny, ncirc)
-    same = same if coincident is None else np.asarray(coincident, bool)
-    for s_c in np.flatnonzero(same):  # a start circle that is a goal circle
-        g_c = ids.GOAL[0] + s_c
-        a, b = np.r_[a, s_c], np.r_[b, g_c]
-        ac = np.r_[ac, g_c if poses == "ends" else s_c]
+    if poses == "ends":
+        if more_poses:
+            raise ValueError("more_poses: only with poses = 'rings'")
+        a, b, ac = _ends(circ, sa, nx, ny, ncirc, coincident)
+    else:
+        a, b, ac = _rings(circ, sa, nx, ny, ncirc, pose_nodes)
     swp = _sweep(circ, ac, nx[a], ny[a], nx[b], ny[b])
     aok = col.arcs_clear(circ, ac, (nx[a], ny[a], nx[b], ny[b], swp), sa.centres,
                          sa.model_radii, sa.bounds, TOL.length, collision)
     a, b, ac, swp = a[aok], b[aok], ac[aok], swp[aok]
-    tie = (swp < TOL.angle) & ~ids.is_pose(a) & ~ids.is_pose(b)  # zero reverse edge b -> a
+    at_pose = np.isin(np.arange(nx.size), [k for k, _ in pose_nodes])
+    tie = (swp < TOL.angle) & ~at_pose[a] & ~at_pose[b]  # zero reverse edge b -> a
     nt, tan = int(tie.sum()), np.arange(e) + ids.POSES
     es = np.concatenate([tan, a, b[tie]])
     ed = np.concatenate([tan + e, b, a[tie]])
@@ -154,4 +176,6 @@ def assemble(sa, circ, pieces, poses: str, collision: str = "full", enter=None,
     srt = np.argsort(es, kind="stable")
     indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=nx.size))])
     return Graph(circ, nx, ny, ncirc, indptr.tolist(), ed[srt].tolist(), ew[srt].tolist(),
-                 eent[srt].tolist(), es[srt], earc[srt], eswp[srt])
+                 eent[srt].tolist(), es[srt], earc[srt], eswp[srt],
+                 tuple(k for k, is_start in pose_nodes if is_start),
+                 tuple(k for k, is_start in pose_nodes if not is_start))
