@@ -120,6 +120,18 @@ def read_toml(path: Any) -> dict[str, Any]:
         raise error(source, "toml", f"syntax error: {e}") from None
 
 
+def car(scenario: Any, settings: GASettings) -> None:
+    """A ConfigError naming the scenario's ``robot.car`` when the GA of ``settings``
+    cannot search that car's paths (its model is not one the GA searches)."""
+    from hga_jax.model import car_model
+
+    name = car_model.resolve(settings.turns, scenario.car)
+    if not car_model.get(name).searched:
+        raise error(scenario.source, "robot.car", f"{scenario.car}: the GA does not search "
+                    "its paths yet; its optimum is a yardstick (hga-jax exact, a study's "
+                    "yardstick)")
+
+
 def strings(value: Any, source: str, key: str) -> list[str]:
     """``value`` if it is a list of non-empty strings (a TOML array), else a ConfigError."""
     if not isinstance(value, list) or not all(isinstance(s, str) and s for s in value):

@@ -464,7 +464,7 @@ def test_internal_errors_are_one_line_with_status_3(monkeypatch, tmp_path, capsy
     import hga_jax.model.exact
     from hga_jax.errors import ModelMismatchError
 
-    def mismatch(scenario, collision="full", turns="tight-rope"):
+    def mismatch(scenario, collision="full", turns="tight-rope", car=None):
         raise ModelMismatchError(f"{scenario.name}: walk 2.0 m, decoder 2.1 m")
 
     monkeypatch.setattr(hga_jax.model.exact, "solve", mismatch)

@@ -181,6 +181,9 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("--turns", metavar="NAME", default=car_model.DEFAULT,
                     help="the car model: " + car_model.help_text() + "; or one a --plugin "
                     "registers")
+    ex.add_argument("--car", metavar="CAR", help="the car: " + ", ".join(car_model.cars())
+                    + " (default: the scenario's [robot] car, else dubins); reeds-shepp "
+                    "also drives backward")
     _pose_args(ex)
     _plugin_arg(ex)
     _output_args(ex, "results/<scenario file name>-exact")
@@ -461,7 +464,12 @@ def _cmd_exact(args) -> int:
     _plugins(args)
     scenario = load_scenario(args.scenario, _pose_flags(args))
     collision = args.collision or _settings(scenario, None, {}).collision
-    validation.turns(args.turns, collision, "command line", "--turns")
+    car = args.car or scenario.car
+    try:
+        turns = car_model.resolve(args.turns, car)
+    except ValueError as e:
+        raise validation.error("command line", "--car", str(e)) from None
+    validation.turns(turns, collision, "command line", "--car" if args.car else "--turns")
     out = args.out or _default_out(args.scenario, "-exact")
     from .output import check_folder
 
@@ -470,7 +478,7 @@ def _cmd_exact(args) -> int:
     from hga_jax.host import report
     from hga_jax.model.exact import solve
 
-    opt = solve(scenario, collision, turns=args.turns)
+    opt = solve(scenario, collision, turns=turns, car=car_model.DUBINS)
     with _ctrl_c_deferred():
         written = report.write_exact(scenario, opt, out, plot=args.plot, force=args.force)
     if args.json:
@@ -509,7 +517,7 @@ def _cmd_check(args) -> int:
             bad += 1
             continue
         _emit(f"{path}: ok (scenario {sc.name}, {count(sc.n, 'obstacle')}, a feasible path "
-              f"exists under {model_words(st.collision, st.turns)})")
+              f"exists under {model_words(st.collision, car_model.resolve(st.turns, sc.car))})")
     if args.ga and ga_ok:
         keys = _ga_file(args.ga)[0]
         shown = ", ".join(f"{k} = {v}" for k, v in keys.items()) or "no settings"
@@ -524,10 +532,11 @@ def _no_path(scenario, settings) -> str | None:
     line that says there is none, and why (the tangent graph alone: milliseconds)."""
     from hga_jax.model import no_path
 
-    if no_path.exists(scenario, settings.collision, settings.turns):
+    turns = car_model.resolve(settings.turns, scenario.car)
+    if no_path.exists(scenario, settings.collision, turns):
         return None
-    return no_path.verdict(settings.collision, settings.turns,
-                           no_path.why(scenario, settings.collision, settings.turns))
+    return no_path.verdict(settings.collision, turns,
+                           no_path.why(scenario, settings.collision, turns))
 
 
 def _cmd_plot(args) -> int:

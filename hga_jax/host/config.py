@@ -29,6 +29,7 @@ import numpy as np
 
 from hga_jax.model.scenario import Field, Scenario, scenario_to_dict  # noqa: F401 (the loader's inverse)
 from hga_jax import validation
+from hga_jax.model import car_model
 from hga_jax.search.settings import GASettings
 
 TOL = 1e-9  # metres: a point counts as inside a circle only by more than this
@@ -40,7 +41,8 @@ TOP: Spec = {
     "goal": ("table", True), "obstacles": ("tables", False), "field": ("table", False),
     "ga": ("table", False),
 }
-ROBOT: Spec = {"radius": ("number", True), "min_turn_radius": ("number", True)}
+ROBOT: Spec = {"radius": ("number", True), "min_turn_radius": ("number", True),
+               "car": ("string", False)}
 POSE: Spec = {"x": ("number", True), "y": ("number", True), "heading_deg": ("number", True)}
 OBSTACLE: Spec = {"x": ("number", True), "y": ("number", True), "radius": ("number", False)}
 FIELD: Spec = {
@@ -174,6 +176,10 @@ def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>",
     robot = _table(top["robot"], ROBOT, source, "robot")
     r = _positive(robot["radius"], source, "robot.radius")
     rho = _positive(robot["min_turn_radius"], source, "robot.min_turn_radius")
+    car = robot.get("car", car_model.DUBINS)
+    if car not in car_model.cars():
+        raise _error(source, "robot.car", f"must be one of {', '.join(car_model.cars())}, "
+                     f"got {car!r}")
     start, goal = _pose(*given["start"]), _pose(*given["goal"])
     fld = _field(top["field"], r, source) if "field" in top else None
     centres, radii = _obstacles(top.get("obstacles", ()), r, source)
@@ -181,7 +187,7 @@ def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>",
     # Keys and types now; values once every layer (preset, file, --ga, flags) is merged.
     GASettings.check_layer(validation.file_layer(ga, source, "ga"))
     s = Scenario(name=name, robot_radius=r, min_turn_radius=rho, start=start, goal=goal,
-                 centres=centres, radii=radii, field=fld, ga=ga, source=source)
+                 centres=centres, radii=radii, field=fld, ga=ga, source=source, car=car)
     _check_pose(s, start, *given["start"][1:])
     _check_pose(s, goal, *given["goal"][1:])
     return s

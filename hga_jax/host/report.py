@@ -328,7 +328,8 @@ def exact_to_dict(scenario: Scenario, opt: Any) -> dict[str, Any]:
                 "lower": None, "touched": touch_list(opt.touched), "segments": opt.segments,
                 "violations_at": []}
     return result_document(scenario, {
-        "seed": None, "runs": None, "settings": {"collision": opt.collision, "turns": opt.turns},
+        "seed": None, "runs": None, "settings": {"collision": opt.collision, "turns": opt.turns,
+                                                 "car": car_model.get(opt.turns).car},
         "best": path, "optimum": optimum_dict(opt),
         "summary": {"optimum_length": opt.length if opt.feasible else None,
                     "seconds": opt.seconds,

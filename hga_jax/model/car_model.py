@@ -31,6 +31,8 @@ from typing import Any
 
 DEFAULT = "tight-rope"
 """The paper's model: the default of ``turns`` everywhere."""
+DUBINS = "dubins"
+"""The car that drives forward only (the paper's robot): the default ``car``."""
 
 _MODELS: dict[str, "CarModel"] = {}
 
@@ -62,6 +64,11 @@ class CarModel:
     methods that raise :class:`NotImplementedError`."""
 
     name: str = ""
+    car: str = DUBINS
+    """The car the model is of: ``"dubins"`` (forward only) or ``"reeds-shepp"`` (also
+    backward); a car's first registered model is the one ``car`` alone selects."""
+    searched: bool = True
+    """Whether the GA searches this model's paths (else it is a yardstick only)."""
     describe: str = ""
     """One phrase for help texts: what paths the model holds."""
     words: str = ""
@@ -74,7 +81,8 @@ class CarModel:
     genes: tuple[GeneModule, ...] = ()
     segment_flags: dict[str, str] = {}
     """Keys this model sets on its own kinds of segment in the result files, each with
-    the words a legend gives them (``{"free": "free turn (radius rho)"}``)."""
+    the words a legend gives them, ``{type}`` standing for the segment's type
+    (``{"free": "free turn (radius rho)"}``)."""
     includes: tuple[str, ...] = ()
     """Models every one of whose paths this model holds too (a cheaper graph to try first)."""
     yardstick_note: str = ""
@@ -120,16 +128,25 @@ class CarModel:
         return []
 
 
+def segment_flags() -> tuple[str, ...]:
+    """Every segment flag of the registered models, in the order they registered (a
+    plot gives each its own style by its place here)."""
+    _builtins()
+    return tuple(dict.fromkeys(f for m in _MODELS.values() for f in m.segment_flags))
+
+
 def segment_kind(segment: dict[str, Any]) -> tuple[str, str | None]:
     """``(kind, legend words)`` of a result file's segment: ``("line", None)``, ``("arc",
-    None)``, or a kind a model marks with one of its ``segment_flags`` (``("free arc",
-    "free turn (radius rho)")``)."""
+    None)``, or a kind marked by the ``segment_flags`` of the models, with their words
+    (``{type}`` stands for the segment's type): ``("free arc", "free turn (radius
+    rho)")``, ``("reverse line", "path line, driven backward")``."""
     _builtins()
-    for model in _MODELS.values():
-        for flag, words in model.segment_flags.items():
-            if segment.get(flag):
-                return f"{flag} {segment['type']}", words
-    return segment["type"], None
+    flags = dict.fromkeys((flag, words) for model in _MODELS.values()
+                          for flag, words in model.segment_flags.items() if segment.get(flag))
+    if not flags:
+        return segment["type"], None
+    words = "; ".join(w.format(type=segment["type"]) for _, w in flags)
+    return " ".join(f for f, _ in flags) + " " + segment["type"], words
 
 
 def register(model: CarModel) -> CarModel:
@@ -150,7 +167,7 @@ def _builtins() -> None:
     _loaded.append(True)
     import importlib
 
-    for module in ("tight_rope", "free_turn_model"):  # each registers its model
+    for module in ("tight_rope", "free_turn_model", "reeds_shepp_model"):  # each registers
         importlib.import_module(f"{__package__}.{module}")
 
 
@@ -161,6 +178,25 @@ def names() -> tuple[str, ...]:
     """The registered models' names, the paper's first: the allowed values of ``turns``."""
     _builtins()
     return tuple(_MODELS)
+
+
+def cars() -> tuple[str, ...]:
+    """The cars of the registered models, the forward car first."""
+    _builtins()
+    return tuple(dict.fromkeys(m.car for m in _MODELS.values()))
+
+
+def resolve(turns: str, car: str = DUBINS) -> str:
+    """The name of the model of ``car`` with ``turns``: ``turns`` itself for the forward
+    car (the default, which any model's name overrides) or when it is a model of that
+    car, else the car's first model (a Reeds–Shepp car's model includes free turns,
+    whatever ``turns`` says). ``ValueError`` for an unknown car."""
+    _builtins()
+    if car not in cars():
+        raise ValueError(f"must be one of {', '.join(cars())}, got {car!r}")
+    if car == DUBINS or (turns in _MODELS and _MODELS[turns].car == car):
+        return turns
+    return next(m.name for m in _MODELS.values() if m.car == car)
 
 
 def help_text() -> str:

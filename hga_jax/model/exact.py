@@ -73,7 +73,8 @@ class ExactResult:
       ``tight_rope_length`` is the tight-rope optimum (m) and ``free_arcs`` the number of
       free arcs on the path; a path with free arcs has no chromosome (``expressible``
       False, ``best_expressible`` the tight-rope optimum's path) and its arcs on free
-      circles carry ``"free": true`` in ``segments``.
+      circles carry ``"free": true`` in ``segments``. ``details``: what a car model
+      records beside (:meth:`~hga_jax.model.car_model.CarModel.extras` writes them).
     """
 
     length: float
@@ -92,6 +93,7 @@ class ExactResult:
     turns: str = car_model.DEFAULT
     tight_rope_length: float | None = None
     free_arcs: int = 0
+    details: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (length is null when infeasible)."""
@@ -166,11 +168,17 @@ def _check_agreement(scenario: Scenario, path: Path | None, walk_length: float) 
         f"{path.upper} lower {path.lower}")
 
 
-def solve(scenario: Scenario, collision: str = "full", turns: str = car_model.DEFAULT
-          ) -> ExactResult:
+def solve(scenario: Scenario, collision: str = "full", turns: str = car_model.DEFAULT,
+          car: str | None = None) -> ExactResult:
     """The exact optimum of ``scenario`` under ``collision`` (``"full"`` or ``"paper"``)
     in the car model ``turns`` (:func:`hga_jax.model.car_model.names`: ``"tight-rope"``,
-    the paper's, :func:`solve_tight_rope`; ``"free"``, free turns)."""
+    the paper's, :func:`solve_tight_rope`; ``"free"``, free turns; ``"reeds-shepp"``)
+    of the car ``car`` (``"dubins"``, forward only, or ``"reeds-shepp"``, which also
+    reverses; None: the scenario's ``[robot] car``)."""
+    try:
+        turns = car_model.resolve(turns, scenario.car if car is None else car)
+    except ValueError as e:
+        raise ValueError(f"car: {e}") from None
     if collision not in COLLISIONS:
         raise ValueError(f"collision: must be one of {', '.join(COLLISIONS)}, got {collision!r}")
     problem = car_model.problem(turns, collision)

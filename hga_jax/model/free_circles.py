@@ -53,11 +53,12 @@ def pair_centres(ax, ay, ra, bx, by, rb):
     return xs, ys, np.concatenate([idx, idx])
 
 
-def free_circles(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def free_circles(sc: Scenario, both: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The pinned free circles of ``sc`` (module doc): ``(x, y, sign)`` of each oriented
     free circle, radius ``rho``. An orientation is left out where a pose-circle anchor
     forbids it (the junction turns the other way), and so is a circle that lies wholly
-    inside an obstacle's model circle."""
+    inside an obstacle's model circle. ``both``: every circle in both orientations (a
+    car that reverses may meet a pose circle at a cusp, turning the same way)."""
     rho = float(sc.min_turn_radius)
     x, y, r, sign, _ = sc.circles(np.float64)
     # Anchors: the 4 pose circles (with the sign a free circle needs to join them) and
@@ -65,7 +66,7 @@ def free_circles(sc: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     poses, each = slice(0, ids.POSES), ids.one_per_obstacle
     ax, ay = np.concatenate([x[poses], each(x)]), np.concatenate([y[poses], each(y)])
     ar = np.concatenate([r[poses], each(r)]) + rho
-    need = np.concatenate([-sign[poses], np.zeros(sc.n)])
+    need = np.concatenate([np.zeros(ids.POSES) if both else -sign[poses], np.zeros(sc.n)])
     i, j = np.triu_indices(ax.size, 1)
     fx, fy, k = pair_centres(ax[i], ay[i], ar[i], ax[j], ay[j], ar[j])
     ni, nj = need[i][k], need[j][k]
@@ -103,14 +104,14 @@ def reach(sc: Scenario, x, y, r):
             np.maximum(np.hypot(x - sc.goal[0], y - sc.goal[1]) - r, 0.0))
 
 
-def circles(sc: Scenario, bound: float = math.inf) -> tuple[np.ndarray, ...]:
+def circles(sc: Scenario, bound: float = math.inf, both: bool = False) -> tuple[np.ndarray, ...]:
     """``(x, y, r, sign, own)`` of every circle of the free-turn graph: the scenario's
     ``2n + 4`` (numbered as in :mod:`hga_jax.model.tangents`), then the free circles
     (``own`` -1: no exemption) that a path shorter than ``bound`` (m) can reach: the
     distance from the start point to the circle's disc and from it to the goal point
-    add up to ``bound`` or less."""
+    add up to ``bound`` or less. ``both``: :func:`free_circles`' ``both``."""
     x, y, r, sign, own = sc.circles(np.float64)
-    fx, fy, fs = free_circles(sc)
+    fx, fy, fs = free_circles(sc, both)
     rho = float(sc.min_turn_radius)
     if math.isfinite(bound):
         to, back = reach(sc, fx, fy, rho)

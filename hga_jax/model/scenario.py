@@ -52,6 +52,7 @@ class Scenario:
     field: Field | None = None
     ga: dict[str, Any] = dataclasses.field(default_factory=dict)  # raw [ga] table, checked by settings
     source: str = "<scenario>"  # file it came from, for messages
+    car: str = "dubins"  # "dubins" (forward only) or "reeds-shepp" (also backward)
     _arrays: dict[Any, "ScenarioArrays"] = dataclasses.field(
         default_factory=dict, init=False, repr=False, compare=False)  # per dtype, built once
     _turns: dict[Any, Any] = dataclasses.field(
@@ -199,7 +200,8 @@ def scenario_to_dict(s: Scenario) -> dict[str, Any]:
 
     out: dict[str, Any] = {
         "name": s.name,
-        "robot": {"radius": s.robot_radius, "min_turn_radius": s.min_turn_radius},
+        "robot": {"radius": s.robot_radius, "min_turn_radius": s.min_turn_radius,
+                  **({} if s.car == "dubins" else {"car": s.car})},
         "start": pose(s.start), "goal": pose(s.goal),
         "obstacles": [{"x": float(x), "y": float(y), "radius": float(r)}
                       for (x, y), r in zip(s.centres, s.radii)],

@@ -193,6 +193,9 @@ class GASettings:
             known = self.turns in car_model.names()  # then the collision test is the problem
             raise bad("turns", problem + (f" (from {origins.get('collision', 'the default')})"
                                           if known else ""))
+        if not self.model.searched:
+            raise bad("turns", f"the GA does not search the paths of {self.turns!r} yet; "
+                      "its optimum is a yardstick (hga-jax exact, a study's yardstick)")
 
     @classmethod
     def from_mapping(

@@ -17,6 +17,11 @@ from .labels import place_labels
 from .style import C_ARC, C_BAD, C_FREE, C_GOAL, C_LINE, C_OPT, C_START, C_TOUCH, EDGE_PAD_PT
 
 PTS_PER_RAD = 60  # arc sampling density
+REVERSE = "reverse"  # the key of a piece driven backward in the result files (a cusp between)
+# The style of each car model's segment flag, in car_model.segment_flags() order: free
+# arcs dashed in cyan, pieces driven backward dotted.
+FLAG_STYLES = (dict(color=C_FREE, ls=(0, (2, 1))),
+               dict(ls=(0, (1, 1.2)), solid_capstyle="butt", dash_capstyle="butt"))
 
 
 def arc_points(center: Sequence[float], radius: float, start_angle: float, sweep: float) -> np.ndarray:
@@ -155,14 +160,23 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     for seg in segments:
         xy = segment_points(seg)
         kind, words = car_model.segment_kind(seg)  # a car model's own kinds: their own style
-        style = (dict(color=C_ARC, lw=2.6, solid_capstyle="round") if kind == "arc"
-                 else dict(color=C_LINE, lw=2.0) if kind == "line"
-                 else dict(color=C_FREE, lw=2.6, ls=(0, (2, 1)), solid_capstyle="round"))
+        style = (dict(color=C_ARC, lw=2.6, solid_capstyle="round") if seg["type"] == "arc"
+                 else dict(color=C_LINE, lw=2.0))
+        for k, flag in enumerate(car_model.segment_flags()):  # free arcs, reversed pieces
+            if seg.get(flag):
+                style.update(FLAG_STYLES[k % len(FLAG_STYLES)])
         label = "_nolegend_" if kind in kinds_seen else words or f"path {kind}"
         kinds_seen.add(kind)
         ax.plot(xy[:, 0], xy[:, 1], zorder=5, gid=kind.replace(" ", "_"), label=label, **style)
         pts.append(xy)
         drawn.append(xy)
+    for k, (a, b) in enumerate(zip(segments, segments[1:])):
+        if bool(a.get(REVERSE)) != bool(b.get(REVERSE)):  # a cusp: the gear changes
+            p = drawn[k][-1]
+            ax.plot([p[0]], [p[1]], marker="o", ms=6, mfc="white", mec="black", mew=1.2,
+                    ls="", zorder=9, gid="cusp", label="cusp" if "cusp" not in kinds_seen
+                    else "_nolegend_")
+            kinds_seen.add("cusp")
     if optimum is not None:
         label = "optimum"
         for seg in optimum:

@@ -1,0 +1,260 @@
+"""The Reeds–Shepp car's tangent graph: free turns travelled both ways, with cusps.
+
+A car that also reverses draws the curves of the forward car, arcs of radius at least
+rho and tangent lines, but its direction of travel may flip at a *cusp*, where it
+stops and changes gear: its heading stays continuous, so the direction of travel
+turns by exactly pi there. Driven backward, a turn goes round its circle the other
+way. In terms of the curve it draws, the reversing car therefore
+
+- leaves the start on each of its turning circles in both senses (forward: the
+  sense of the turn, as the forward car; backward: the other) and arrives on the
+  goal's turning circles likewise (circles ``C .. C + 3``, ``C = 2n + 4``: the start's
+  left and right turning circles travelled backward, then the goal's);
+- may pass from one circle to another where they touch and their directions of
+  travel are opposite (one sense touching from outside, opposite senses one inside
+  the other): a cusp, a piece of length 0 at the contact point;
+- turns on free circles of radius rho held by two contacts, in either sense, since
+  a contact may be a cusp (:func:`hga_jax.model.free_circles.free_circles`, ``both``);
+- and drives every Reeds–Shepp word from the start pose to the goal pose that is
+  clear of the obstacles and the field (:mod:`hga_jax.model.reeds_shepp`), a piece of
+  its own, so that with no obstacles the optimum is the closed form.
+
+Free circles are held by the scenario's circles (pose circles, model circles, walls);
+two free circles that touch each other are not joined. The gear is part of the state:
+the graph is laid out twice, once per gear (nodes ``0 .. N - 1`` forward, ``N .. 2N - 1``
+backward). A walk begins forward at the start point on a start circle travelled in the
+sense of its turn, or backward on one travelled the other way; it ends likewise at the
+goal; a cusp passes to the other gear, every other piece stays in its gear, and a word
+goes from the gear of its first piece to the gear of its last (its pieces carry their
+own). Host code (numpy, float64); metres and radians.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from hga_jax.model import circle_ids as ids
+from hga_jax.model import collision as col
+from hga_jax.model import geometry as g
+from . import free_circles, free_turns, tangent_graph
+from .graph_search import Graph, search
+from .scenario import Scenario
+from .touch import Touch
+
+TOL = g.tolerances(np.float64)
+
+
+class Pieces(NamedTuple):
+    """The straight pieces of the graph, in order: tangents, then cusps, then words.
+    ``words``: per word piece its segments (result-file dicts, gears included)."""
+
+    pieces: tuple
+    tangents: int
+    cusps: int
+    words: list[list[dict[str, Any]]]
+
+
+def circles(sc: Scenario, bound: float = math.inf) -> tuple[tuple[np.ndarray, ...], int]:
+    """``((x, y, r, sign, own), back)``: the scenario's circles, the four pose circles
+    travelled backward from ``back = C`` on (the start's left and right, then the
+    goal's: the same circles, the other sense), then the free circles of either sense
+    that a path shorter than ``bound`` (m) can reach."""
+    c = ids.count(sc.n)
+    x, y, r, sign, own = free_circles.circles(sc, bound, both=True)
+    pose = slice(0, ids.POSES)
+
+    def with_back(v, w):
+        return np.concatenate([v[:c], w[pose], v[c:]])
+
+    return (with_back(x, x), with_back(y, y), with_back(r, r), with_back(sign, -sign),
+            with_back(own, own).astype(np.int32)), c
+
+
+def _cusps(sc: Scenario, circ, back: int, bound: float):
+    """Cusps, ``(S, T, px, py, px, py, 0)``: pairs of circles that touch with opposite
+    directions of travel at the contact point P, among the scenario's and the backward
+    pose circles, and between those and the free circles (which they hold)."""
+    x, y, r, sg, own = circ
+    fixed = np.arange(back + ids.POSES)
+    a, b = (m.ravel() for m in np.meshgrid(fixed, np.arange(x.size), indexing="ij"))
+    a, b = np.r_[a, b[b >= fixed.size]], np.r_[b, a[b >= fixed.size]]  # both ways
+    keep = (a != b) & ~((own[a] == own[b]) & (own[a] >= 0))
+    a, b = a[keep], b[keep]
+    d = np.hypot(x[b] - x[a], y[b] - y[a])
+    outer = (sg[a] == sg[b]) & (np.abs(d - (r[a] + r[b])) <= TOL.eps)
+    inner = (sg[a] != sg[b]) & (np.abs(d - np.abs(r[a] - r[b])) <= TOL.eps) & (d > TOL.eps)
+    a, b, d, outer = (v[outer | inner] for v in (a, b, d, outer))
+    # P at r[a] from a's centre: towards b when they touch from outside or b lies inside.
+    toward = np.where(outer | (r[a] >= r[b]), 1.0, -1.0) * r[a] / d
+    px, py = x[a] + toward * (x[b] - x[a]), y[a] + toward * (y[b] - y[a])
+    lo, hi = sc.bounds[0::2], sc.bounds[1::2]
+    ok = ((px >= lo[0] - TOL.length) & (px <= hi[0] + TOL.length)
+          & (py >= lo[1] - TOL.length) & (py <= hi[1] + TOL.length))
+    if math.isfinite(bound):
+        ok &= (np.hypot(px - sc.start[0], py - sc.start[1])
+               + np.hypot(px - sc.goal[0], py - sc.goal[1]) <= bound)
+    a, b, px, py = a[ok], b[ok], px[ok], py[ok]
+    return a, b, px, py, px, py, np.zeros(a.size)
+
+
+def clear(sc: Scenario, segments: list[dict[str, Any]]) -> bool:
+    """Whether a chain of result-file segments keeps clear of every obstacle and in the
+    field (the full rule of :mod:`hga_jax.model.collision`; arcs here belong to no
+    obstacle)."""
+    sa = sc.arrays(np.float64)
+    centres, radii = np.asarray(sa.centres), np.asarray(sa.model_radii)
+    obstacles = col.obstacles(centres, radii, ndim=1)
+    for seg in segments:
+        if seg["type"] == "line":
+            (ax, ay), (bx, by) = seg["start"], seg["end"]
+            ends = tuple(np.array([v]) for v in (ax, ay, bx, by))
+            if col.segment_violations(ends, np.array([True]), obstacles, sa.bounds,
+                                      TOL.length, "full")[0]:
+                return False
+            continue
+        (cx, cy), rad, a0, swp = seg["center"], seg["radius"], seg["start_angle"], seg["sweep"]
+        circ = tuple(np.array([v]) for v in (cx, cy, rad, -math.copysign(1.0, swp), -1))
+        arc = tuple(np.array([v]) for v in (
+            cx + rad * math.cos(a0), cy + rad * math.sin(a0),
+            cx + rad * math.cos(a0 + swp), cy + rad * math.sin(a0 + swp), abs(swp)))
+        if not col.arcs_clear(circ, np.array([0]), arc, centres, radii, sa.bounds,
+                              TOL.length)[0]:
+            return False
+    return True
+
+
+def _words(sc: Scenario, back: int, bound: float):
+    """The Reeds–Shepp words from the start pose to the goal pose that are clear and no
+    longer than ``bound``: pieces from the start point to the goal point, on the start's
+    left circle in the sense of the word's first gear (circle 0 forward, ``back``
+    backward) to the goal's left circle in the sense of its last (2 or ``back + 2``), and
+    their segments."""
+    from . import reeds_shepp
+
+    rho = float(sc.min_turn_radius)
+    (sx, sy, _), (gx, gy, _) = sc.start, sc.goal
+    kept, segs, first, last = [], [], [], []
+    for word in reeds_shepp.candidates(sc.start, sc.goal, rho):
+        if word.length > bound:
+            continue
+        seg = reeds_shepp.segments(sc.start, word.pieces, rho)
+        if seg and clear(sc, seg):
+            kept.append(word.length)
+            segs.append(seg)
+            first.append(back if seg[0].get("reverse") else 0)
+            last.append(back + ids.GOAL[0] if seg[-1].get("reverse") else ids.GOAL[0])
+    k = len(kept)
+    return (np.asarray(first, np.int64), np.asarray(last, np.int64), np.full(k, float(sx)),
+            np.full(k, float(sy)), np.full(k, float(gx)), np.full(k, float(gy)),
+            np.asarray(kept, float)), segs
+
+
+def build(sc: Scenario, bound: float = math.inf) -> tuple[Graph, Pieces]:
+    """The graph (module doc) and its pieces; with a finite ``bound`` (m) without what no
+    path shorter than it can use (pass the free-turn optimum, a little raised)."""
+    circ, back = circles(sc, bound)
+    tangents = free_turns._tangents(sc, circ, bound)
+    cusps = _cusps(sc, circ, back, bound)
+    words, segs = _words(sc, back, bound)
+    pieces = tuple(np.concatenate(parts) for parts in zip(tangents, cusps, words))
+    more = tuple((back + k, k < 2) for k in range(ids.POSES))
+    gr = tangent_graph.assemble(sc.arrays(np.float64), circ, pieces, "rings", "full",
+                                more_poses=more)
+    parts = Pieces(pieces, tangents[0].size, cusps[0].size, segs)
+    return _geared(gr, parts, back), parts
+
+
+def _geared(gr: Graph, parts: Pieces, back: int) -> Graph:
+    """``gr`` laid out once per gear (module doc): nodes ``u`` forward, ``u + N``
+    backward."""
+    n = gr.nx.size
+    src = np.asarray(gr.src)
+    dst, w = np.asarray(gr.dst, np.int64), np.asarray(gr.w)
+    first_cusp = ids.POSES + parts.tangents
+    first_word = first_cusp + parts.cusps
+    end_words = first_word + len(parts.words)
+    piece = np.asarray(gr.arc_circle) < 0  # arcs leave a piece's start node too
+    cusp = piece & (src >= first_cusp) & (src < first_word)
+    word = piece & (src >= first_word) & (src < end_words)
+    # Every edge in both gears, a cusp to the other gear; a word once, between its gears.
+    lay = ~word
+    es = [src[lay], src[lay] + n]
+    ed = [dst[lay] + n * cusp[lay], dst[lay] + n * ~cusp[lay]]
+    k = np.flatnonzero(word)
+    if k.size:
+        j = src[k] - first_word
+        fwd_in = np.array([not parts.words[i][0].get("reverse") for i in j])
+        fwd_out = np.array([not parts.words[i][-1].get("reverse") for i in j])
+        es.append(src[k] + n * ~fwd_in)
+        ed.append(dst[k] + n * ~fwd_out)
+    pick = np.r_[np.flatnonzero(lay), np.flatnonzero(lay), k]
+    es, ed = np.concatenate(es), np.concatenate(ed)
+    srt = np.argsort(es, kind="stable")
+    pick = pick[srt]
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(es, minlength=2 * n))])
+    back_start = [u for u in gr.starts if gr.ncirc[u] >= back]
+    back_goal = [u for u in gr.goals if gr.ncirc[u] >= back]
+    return Graph(gr.circles, np.r_[gr.nx, gr.nx], np.r_[gr.ny, gr.ny],
+                 np.r_[gr.ncirc, gr.ncirc], indptr.tolist(), ed[srt].tolist(),
+                 w[pick].tolist(), np.asarray(gr.enter)[pick].tolist(), es[srt],
+                 np.asarray(gr.arc_circle)[pick], np.asarray(gr.sweep)[pick],
+                 tuple(u for u in gr.starts if gr.ncirc[u] < back)
+                 + tuple(u + n for u in back_start),
+                 tuple(u for u in gr.goals if gr.ncirc[u] < back)
+                 + tuple(u + n for u in back_goal))
+
+
+def shortest(sc: Scenario, bound: float = math.inf):
+    """The Reeds–Shepp optimum of the model: ``(length, segments, touched, cusps)``,
+    segments in the result files' format with ``"reverse": true`` on every piece driven
+    backward; ``length`` inf and empty lists when no path exists (or none shorter than
+    ``bound``)."""
+    gr, parts = build(sc, bound)
+    h = np.hypot(gr.nx - float(sc.goal[0]), gr.ny - float(sc.goal[1])).tolist()
+    length, edges, _ = search(gr, h, distinct=False)
+    if not edges:
+        return math.inf, [], [], 0
+    segs, touched = _walk(gr, parts, edges, back=ids.count(sc.n))
+    cusps = sum(1 for s, t in zip(segs, segs[1:]) if s.get("reverse") != t.get("reverse"))
+    return float(length), segs, touched, cusps
+
+
+def _walk(gr: Graph, parts: Pieces, edges: list[int], back: int):
+    """Segments (with gears) and touched obstacles of a walk (:func:`shortest`)."""
+    x, y, r, sg, own = gr.circles
+    n = gr.nx.size // 2  # nodes per gear
+    first_word = ids.POSES + parts.tangents + parts.cusps
+    end_words = first_word + len(parts.words)
+    segs: list[dict[str, Any]] = []
+    touched: list[Touch] = []
+    arc_on = -1
+    for k in edges:
+        u, v, c = int(gr.src[k]), gr.dst[k], int(gr.arc_circle[k])
+        backward = u >= n
+        if c >= 0:
+            if gr.sweep[k] <= 0.0:
+                continue
+            if arc_on != c:
+                segs.append({"type": "arc", "center": [float(x[c]), float(y[c])],
+                             "radius": float(r[c]), "sweep": 0.0, "start_angle": float(
+                                 np.arctan2(gr.ny[u] - y[c], gr.nx[u] - x[c]))})
+                if c >= back + ids.POSES:  # a free circle
+                    segs[-1]["free"] = True
+                if backward:
+                    segs[-1]["reverse"] = True
+                if own[c] >= 0 and c < back:
+                    touched.append(Touch(int(own[c]) + 1, int(sg[c])))
+            segs[-1]["sweep"] -= float(sg[c] * gr.sweep[k])
+            arc_on = c
+            continue
+        arc_on = -1
+        if first_word <= u % n < end_words:
+            segs += [dict(s) for s in parts.words[u % n - first_word]]
+        elif gr.w[k] > 0.0:
+            segs.append({"type": "line", "start": [float(gr.nx[u]), float(gr.ny[u])],
+                         "end": [float(gr.nx[v]), float(gr.ny[v])]})
+            if backward:
+                segs[-1]["reverse"] = True
+    return segs, touched

@@ -1,0 +1,160 @@
+"""The Reeds–Shepp car among obstacles: the exact optimum of the model.
+
+With no obstacles the optimum is the closed form (every word is reachable); with
+obstacles it is never longer than the free-turn optimum (every forward path is a
+Reeds–Shepp path) nor shorter than the closed form, and every path it returns passes an
+independent float64 check (tests/_rs_check.py) of headings, cusps, curvature,
+clearance, field and length. From the command line: ``exact --car reeds-shepp``,
+``[robot] car``, what the summary and result.json say, and one-line errors.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import _rs_check
+from hga_jax import scenario_from_dict
+from hga_jax.errors import ConfigError
+from hga_jax.host.cli import main
+from hga_jax.model import reeds_shepp
+from hga_jax.model.exact import solve
+from hga_jax.search.settings import GASettings
+from hga_jax.study import scenes
+
+RHO = 0.25
+
+
+def _scene(rng, obstacles=(), field=None, rho=RHO):
+    d = {"name": "rs", "robot": {"radius": 0.09, "min_turn_radius": rho},
+         "start": {"x": 1.0, "y": 1.0, "heading_deg": float(rng.uniform(0, 360))},
+         "goal": {"x": 1.0 + float(rng.uniform(-1.5, 1.5)),
+                  "y": 1.0 + float(rng.uniform(-1.5, 1.5)),
+                  "heading_deg": float(rng.uniform(0, 360))},
+         "obstacles": list(obstacles)}
+    if field:
+        d["field"] = field
+    return d
+
+
+def test_with_no_obstacles_the_optimum_is_the_closed_form():
+    rng = np.random.default_rng(7)
+    for k in range(60):
+        d = _scene(rng, rho=float(rng.choice([0.15, 0.25, 0.4])))
+        sc = scenario_from_dict(d, "rs")
+        opt = solve(sc, car="reeds-shepp")
+        closed = reeds_shepp.length(sc.start, sc.goal, sc.min_turn_radius)
+        assert opt.feasible and opt.turns == "reeds-shepp"
+        assert opt.length == pytest.approx(closed, rel=1e-9, abs=1e-12)
+        assert _rs_check.problems(d, opt.segments, opt.length) == []
+
+
+def _obstacle_scenes():
+    out = []
+    for kind, n in (("uniform", 9), ("obstructed", 9), ("clusters", 9), ("obstructed", 15)):
+        for i in range(3):
+            out.append(scenes.generate(kind, n, 31, i, f"{kind}{n}_{i}"))
+    return out
+
+
+@pytest.mark.parametrize("k", range(12))
+def test_among_obstacles_never_longer_than_free_turns_and_every_path_checks(k):
+    d = _obstacle_scenes()[k]
+    sc = scenario_from_dict(d, "rs")
+    rs, free = solve(sc, car="reeds-shepp"), solve(sc, turns="free")
+    assert rs.feasible == free.feasible or (rs.feasible and not free.feasible)
+    closed = reeds_shepp.length(sc.start, sc.goal, sc.min_turn_radius)
+    assert closed - 1e-9 <= rs.length <= free.length + 1e-9
+    assert _rs_check.problems(d, rs.segments, rs.length) == []
+    flips = sum(bool(a.get("reverse")) != bool(b.get("reverse"))
+                for a, b in zip(rs.segments, rs.segments[1:]))
+    assert rs.details["cusps"] == flips
+    assert rs.tight_rope_length >= free.length - 1e-9
+
+
+def test_a_goal_behind_the_start_between_walls_is_reached_backward():
+    """Parking: the goal 1 m straight behind the start, same heading, obstacles on both
+    sides of the lane: the car backs straight in (no cusp), where a forward car must
+    loop round."""
+    d = {"name": "lane", "robot": {"radius": 0.09, "min_turn_radius": 0.3},
+         "start": {"x": 2.0, "y": 1.0, "heading_deg": 0.0},
+         "goal": {"x": 1.0, "y": 1.0, "heading_deg": 0.0},
+         "obstacles": [{"x": x, "y": y} for x in (0.9, 1.3, 1.7, 2.1) for y in (0.6, 1.4)]}
+    sc = scenario_from_dict(d, "lane")
+    rs = solve(sc, car="reeds-shepp")
+    assert rs.length == pytest.approx(1.0, abs=1e-9) and rs.details["cusps"] == 0
+    assert [s["type"] for s in rs.segments] == ["line"] and rs.segments[0]["reverse"]
+    assert _rs_check.problems(d, rs.segments, rs.length) == []
+    assert solve(sc, turns="free").length > 2.0
+
+
+def test_exact_command_with_the_reeds_shepp_car(tmp_path, capsys):
+    d = {"name": "lane", "robot": {"radius": 0.09, "min_turn_radius": 0.3,
+                                   "car": "reeds-shepp"},
+         "start": {"x": 2.0, "y": 1.0, "heading_deg": 0.0},
+         "goal": {"x": 1.0, "y": 1.2, "heading_deg": 30.0}, "obstacles": []}
+    import tomli_w
+
+    path = tmp_path / "lane.toml"
+    path.write_text(tomli_w.dumps(d))
+    assert main(["exact", str(path), "--out", str(tmp_path / "a"), "--plot"]) == 0
+    printed = capsys.readouterr().out
+    assert "Reeds-Shepp optimum" in printed and "cusp" in printed
+    assert "free-turn optimum" in printed and "tight-rope optimum" in printed
+    data = json.loads((tmp_path / "a" / "result.json").read_text())
+    assert data["settings"]["car"] == "reeds-shepp" and data["optimum"]["turns"] == "reeds-shepp"
+    segs = data["optimum"]["segments"]
+    assert any(s.get("reverse") for s in segs)
+    assert _rs_check.problems(d, segs, data["optimum"]["length"]) == []
+    assert (tmp_path / "a" / "path.png").stat().st_size > 0
+    # The same scene under --car dubins: the free-turn optimum is longer.
+    assert main(["exact", str(path), "--car", "dubins", "--turns", "free",
+                 "--out", str(tmp_path / "b")]) == 0
+    capsys.readouterr()
+    free = json.loads((tmp_path / "b" / "result.json").read_text())["optimum"]["length"]
+    assert free > data["optimum"]["length"] + 1e-3
+
+
+def test_bad_car_values_are_one_line(tmp_path, capsys):
+    rng = np.random.default_rng(1)
+    d = _scene(rng)
+    d["robot"]["car"] = "tank"
+    with pytest.raises(ConfigError, match="robot.car: must be one of dubins, reeds-shepp"):
+        scenario_from_dict(d, "x.toml")
+    import tomli_w
+
+    d["robot"]["car"] = "reeds-shepp"
+    path = tmp_path / "s.toml"
+    path.write_text(tomli_w.dumps(d))
+    assert main(["exact", str(path), "--car", "tank", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--car" in err[0] and "tank" in err[0]
+    assert not (tmp_path / "o").exists()
+    assert main(["run", str(path), "--out", str(tmp_path / "r")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "robot.car" in err[0] and "does not search" in err[0]
+    with pytest.raises(ConfigError, match="does not search"):
+        GASettings(turns="reeds-shepp")
+    with pytest.raises(ValueError, match="full collision test"):
+        solve(scenario_from_dict(d, "s"), "paper")
+
+
+def test_plots_draw_backward_pieces_and_cusps():
+    from hga_jax.host.plots import plot_path
+
+    rng = np.random.default_rng(3)
+    for _ in range(40):  # a scene whose optimum has a cusp
+        d = _scene(rng)
+        sc = scenario_from_dict(d, "rs")
+        opt = solve(sc, car="reeds-shepp")
+        if opt.details["cusps"]:
+            break
+    fig = plot_path(sc, opt.segments)
+    ax = fig.axes[0]
+    cusps = [a for a in ax.get_lines() if a.get_gid() == "cusp"]
+    assert len(cusps) == opt.details["cusps"]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "cusp" in labels and any("driven backward" in t for t in labels)
+    assert math.isfinite(opt.length)
