@@ -1,4 +1,4 @@
-"""The closed-form Dubins path (hga_jax.peers.dubins) and the judge of peer paths
+"""The closed-form Dubins path (hga_jax.model.dubins) and the judge of peer paths
 (hga_jax.peers.judge): end poses reached, lengths against the exact free-turn solver
 and OMPL, hand-computed cases, and the judge's verdicts against the GA's own model."""
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.model.exact import solve
 from hga_jax.model.path import evaluate_path, from_chromosome
-from hga_jax.peers import dubins
+from hga_jax.model import dubins
 from hga_jax.peers.judge import judge_poses, judge_segments
 
 PI = math.pi

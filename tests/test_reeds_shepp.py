@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from hga_jax.model import reeds_shepp as rs
-from hga_jax.peers import dubins
+from hga_jax.model import dubins
 
 RHOS = (0.15, 0.25, 1.0)
 TWO_PI = 2.0 * math.pi

@@ -67,6 +67,8 @@ class CarModel:
     car: str = DUBINS
     """The car the model is of: ``"dubins"`` (forward only) or ``"reeds-shepp"`` (also
     backward); a car's first registered model is the one ``car`` alone selects."""
+    reverses: bool = False
+    """Whether the car also drives backward (a Reeds–Shepp car)."""
     searched: bool = True
     """Whether the GA searches this model's paths (else it is a yardstick only)."""
     describe: str = ""
@@ -92,6 +94,13 @@ class CarModel:
         """What is wrong with this model under the collision test ``collision``
         (None: nothing)."""
         return None
+
+    def connect(self, p: Any, q: Any, rho: float) -> list[dict[str, Any]]:
+        """The car's shortest path from pose ``p`` to pose ``q`` with no obstacles, as
+        result-file segments (the forward car's: Dubins, :mod:`hga_jax.model.dubins`)."""
+        from .dubins import shortest
+
+        return shortest(tuple(p), tuple(q), rho)
 
     def search_arrays(self, scenario: Any, dtype: Any, collision: str,
                       with_legs: bool = False) -> Any:
@@ -184,6 +193,12 @@ def cars() -> tuple[str, ...]:
     """The cars of the registered models, the forward car first."""
     _builtins()
     return tuple(dict.fromkeys(m.car for m in _MODELS.values()))
+
+
+def of_car(car: str) -> CarModel:
+    """The first model of ``car`` (the car's own, without free turns for the forward
+    car); ``ValueError`` for an unknown car."""
+    return get(resolve(DEFAULT, car))
 
 
 def resolve(turns: str, car: str = DUBINS) -> str:

@@ -29,6 +29,7 @@ class ReedsShepp(car_model.CarModel):
     name = "reeds-shepp"
     car = "reeds-shepp"
     searched = False
+    reverses = True
     describe = ("the car that also drives backward, with cusps, and turns in free space "
                 "too; the full collision test only")
     words = "Reeds-Shepp car"
@@ -48,6 +49,11 @@ class ReedsShepp(car_model.CarModel):
     def search_arrays(self, scenario: Any, dtype: Any, collision: str,
                       with_legs: bool = False) -> Any:
         raise NotImplementedError("the GA does not search Reeds-Shepp paths yet")
+
+    def connect(self, p: Any, q: Any, rho: float) -> list[dict[str, Any]]:
+        from . import reeds_shepp
+
+        return reeds_shepp.segments(p, reeds_shepp.shortest(p, q, rho).pieces, rho)
 
     def graph(self, scenario: Any, collision: str) -> Any:
         from .reeds_shepp_graph import build

@@ -2,11 +2,11 @@
 
 - :mod:`~hga_jax.peers.deap_ga`: the paper's GA written with DEAP, on the plain-Python
   decoder :mod:`~hga_jax.peers.python_decoder`;
-- :mod:`~hga_jax.peers.ompl_planner`: OMPL's sampling planners in its Dubins state space;
-- :mod:`~hga_jax.peers.dubins`: the shortest Dubins path between two poses, which joins
-  a planner's waypoints;
+- :mod:`~hga_jax.peers.ompl_planner`: OMPL's sampling planners in its Dubins or
+  Reeds–Shepp state space;
 - :mod:`~hga_jax.peers.judge`: a peer's path judged by the project's own float64 model
-  (length, feasibility under the full collision rule).
+  (length, feasibility under the full collision rule), its waypoints joined by the
+  car's shortest path (:meth:`hga_jax.model.car_model.CarModel.connect`).
 
 Random search and the exact solver are hga-jax's own (:mod:`hga_jax.study.solvers`
 runs every solver for a study). Host code; ``deap`` and ``ompl`` (the ``compare``

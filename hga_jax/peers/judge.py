@@ -25,7 +25,9 @@ orientation ``sign`` (+1 CW, -1 CCW): ``A`` at ``start_angle``, ``B`` at
 ``start_angle + sweep``, ``swp = |sweep|`` (at most a full circle), ``sign =
 -sign(sweep)``. A peer that returns waypoint poses (a sampling planner in a Dubins
 state space) has its consecutive poses joined by the shortest Dubins path
-(:func:`hga_jax.peers.dubins.shortest`), as the planner itself joins them.
+(:func:`hga_jax.model.dubins.shortest`), a Reeds–Shepp planner's by the shortest
+Reeds–Shepp path (:func:`hga_jax.model.reeds_shepp.shortest`), as the planner itself
+joins them.
 
 Host code (numpy, float64); metres and radians.
 """
@@ -38,10 +40,9 @@ import numpy as np
 
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
+from hga_jax.model import car_model
 from hga_jax.model.path import segments_length
 from hga_jax.model.scenario import Scenario
-
-from . import dubins
 
 POSITION_TOL = 1e-6  # m: ends of consecutive pieces (and the path's ends) this close join
 HEADING_TOL = 1e-6  # rad: headings this close join
@@ -64,20 +65,25 @@ class Judged(NamedTuple):
 
 
 def _ends(seg: dict[str, Any]) -> tuple[tuple[float, float, float | None], ...]:
-    """Start and end poses ``(x, y, heading)`` of a piece; heading None where the piece
-    has no direction: a line shorter than ``POSITION_TOL`` (a point at this resolution)
-    or an arc of sweep 0 (which way it would turn is unknown)."""
+    """Start and end poses ``(x, y, heading)`` of a piece (a piece driven backward,
+    ``"reverse": true``, faces against its travel, so a cusp joins where the heading is
+    continuous); heading None where the piece has no direction: a line shorter than
+    ``POSITION_TOL`` (a point at this resolution) or an arc of sweep 0 (which way it
+    would turn is unknown)."""
     if seg["type"] == "arc":
         (cx, cy), r = seg["center"], float(seg["radius"])
         a0, sw = float(seg["start_angle"]), float(seg["sweep"])
         a1 = a0 + sw
         turn = math.copysign(math.pi / 2.0, sw) if sw != 0.0 else None
+        turn = turn if turn is None or not seg.get("reverse") else turn + math.pi
         h0, h1 = (None, None) if turn is None else (a0 + turn, a1 + turn)
         return ((cx + r * math.cos(a0), cy + r * math.sin(a0), h0),
                 (cx + r * math.cos(a1), cy + r * math.sin(a1), h1))
     (x0, y0), (x1, y1) = seg["start"], seg["end"]
     long_enough = math.hypot(x1 - x0, y1 - y0) >= POSITION_TOL
     heading = math.atan2(y1 - y0, x1 - x0) if long_enough else None
+    if heading is not None and seg.get("reverse"):  # driven backward: facing the other way
+        heading += math.pi
     return (x0, y0, heading), (x1, y1, heading)
 
 
@@ -147,15 +153,18 @@ def _too_tight(scenario: Scenario, segments: Sequence[dict[str, Any]]) -> int:
                and seg["radius"] < least)
 
 
-def judge_poses(scenario: Scenario, poses: Sequence[Sequence[float]]) -> Judged:
-    """Waypoint poses ``(x, y, heading)`` (m, m, rad; shape (k, 3)) joined by shortest
-    Dubins paths of radius ``scenario.min_turn_radius``, judged by :func:`judge_segments`
+def judge_poses(scenario: Scenario, poses: Sequence[Sequence[float]],
+                car: str | None = None) -> Judged:
+    """Waypoint poses ``(x, y, heading)`` (m, m, rad; shape (k, 3)) joined by the car's
+    shortest paths of radius ``scenario.min_turn_radius`` (``car``: ``"dubins"``, forward
+    only, or ``"reeds-shepp"``; None: the scenario's), judged by :func:`judge_segments`
     (the first and last poses must be the scenario's start and goal)."""
     poses = [tuple(float(v) for v in p) for p in poses]
     rho = float(scenario.min_turn_radius)
+    model = car_model.of_car(scenario.car if car is None else car)
     segments: list[dict[str, Any]] = []
     for p, q in zip(poses, poses[1:]):
-        segments += dubins.shortest(p, q, rho)
+        segments += model.connect(p, q, rho)
     judged = judge_segments(scenario, segments)
     if poses and not segments:  # no motion: the path is the point at the first pose
         start, goal = (tuple(float(v) for v in p) for p in (scenario.start, scenario.goal))

@@ -60,8 +60,11 @@ def bounds(sc) -> tuple[float, float, float, float]:
     return min(xs) - m, max(xs) + m, min(ys) - m, max(ys) + m
 
 
-def plan(sc, planner: str, time_limit: float, seed: int = 0) -> dict[str, Any]:
-    """One anytime run of ``planner`` on scenario ``sc`` for ``time_limit`` seconds.
+def plan(sc, planner: str, time_limit: float, seed: int = 0,
+         car: str | None = None) -> dict[str, Any]:
+    """One anytime run of ``planner`` on scenario ``sc`` for ``time_limit`` seconds, in
+    the state space of ``car`` (``"dubins"``: OMPL's ``DubinsStateSpace``, forward only;
+    ``"reeds-shepp"``: ``ReedsSheppStateSpace``; None: the scenario's ``[robot] car``).
 
     Returns ``checkpoints``: per slice ``(planner seconds so far, poses or None)``,
     the poses ``(x, y, heading)`` of the path OMPL holds (None: no exact solution
@@ -75,7 +78,11 @@ def plan(sc, planner: str, time_limit: float, seed: int = 0) -> dict[str, Any]:
     if not _seeded:
         ou.RNG.setSeed(seed + 1)  # OMPL refuses seed 0
         _seeded = True
-    space = ob.DubinsStateSpace(sc.min_turn_radius, False)
+    from hga_jax.model import car_model
+
+    reverses = car_model.of_car(sc.car if car is None else car).reverses
+    space = (ob.ReedsSheppStateSpace(sc.min_turn_radius) if reverses
+             else ob.DubinsStateSpace(sc.min_turn_radius, False))
     box = ob.RealVectorBounds(2)
     xmin, xmax, ymin, ymax = bounds(sc)
     box.setLow(0, xmin)

@@ -57,9 +57,11 @@ TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses"
        "families", "configs", "quick", "yardstick", "cpu_devices"}
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
-KINDS = ("clutter", "obstructed", "clusters", "loops", "cluster_loops")
-"""Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters` and, for
-free turns, :mod:`~hga_jax.study.loops`."""
+KINDS = ("clutter", "obstructed", "clusters", "loops", "cluster_loops", "behind", "slot",
+         "wall")
+"""Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters`, for free
+turns :mod:`~hga_jax.study.loops` and, for the Reeds–Shepp car, the parking-like
+:mod:`~hga_jax.study.parking`."""
 ANALYSES = ("paper", "penalty", "scaling")
 
 
@@ -176,7 +178,8 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
     if density is not None and t["kind"] == "clusters":
         raise _err(source, f"{where}.density", "not used by kind clusters (each scene draws "
                    "its own, 0.8 to 2.0 obstacles per square metre); remove it")
-    if density is not None and t["kind"] in ("loops", "cluster_loops"):
+    if density is not None and t["kind"] in ("loops", "cluster_loops", "behind", "slot",
+                                             "wall"):
         raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (its fields "
                    "are fixed or drawn per scene); remove it")
     return Family(t["name"], t["kind"], obs, scenes,

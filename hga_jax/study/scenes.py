@@ -15,6 +15,8 @@ right edge, headings within 60 degrees of +x.
   (clumps, per-scene robot and field, any headings), blocked as ``obstructed``.
 - ``loops`` and ``cluster_loops`` (:mod:`hga_jax.study.loops`): poses a few turning
   radii apart, kept where free turns beat the tight rope (for ``turns = "free"``).
+- ``behind``, ``slot`` and ``wall`` (:mod:`hga_jax.study.parking`): parking-like poses
+  of a Reeds–Shepp car, kept where reversing shortens the path.
 
 Every kept scene has a feasible optimum that a chromosome expresses (touching
 each obstacle at most once; with leg genes for the free-turn families), so a GA run
@@ -76,6 +78,10 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
         from . import loops
 
         return loops.generate(kind, n, seed, index, name, density)
+    if kind in ("behind", "slot", "wall"):
+        from . import parking
+
+        return parking.generate(kind, n, seed, index, name, density)
     rng = np.random.default_rng([seed, n, index])
     w, h = field_size(n, density)
     for _ in range(MAX_TRIES):
