@@ -90,7 +90,7 @@ def test_sampled_poses_follow_the_analytic_path(name):
     table = poses.sample(segments, spacing)
     length = sum(s["radius"] * abs(s["sweep"]) if s["type"] == "arc"
                  else math.dist(s["start"], s["end"]) for s in segments)
-    assert table.shape == (count, 5) and table.dtype == np.float64
+    assert table.shape == (count, 6) and table.dtype == np.float64
     s = table[:, 0]
     assert s[0] == 0.0 and abs(s[-1] - length) <= 1e-9
     steps = np.diff(s)
@@ -122,7 +122,7 @@ def test_boundaries_win_over_multiples_and_degenerate_input():
     near = poses.sample(line, 1.0 - 1e-10)  # a multiple within 1e-9 of the end gives way
     assert near[:, 0].tolist() == [0.0, 1.0]
     alone = poses.sample([], 0.1, start=(1.0, 2.0, 1.5 * math.pi))  # start equal to goal
-    assert alone.shape == (1, 5) and alone[0, :3].tolist() == [0.0, 1.0, 2.0]
+    assert alone.shape == (1, 6) and alone[0, :3].tolist() == [0.0, 1.0, 2.0]
     assert alone[0, 3] == pytest.approx(-math.pi / 2, abs=1e-12) and alone[0, 4] == 0.0
     with pytest.raises(ValueError, match="start"):
         poses.sample([], 0.1)
@@ -163,7 +163,7 @@ def test_export_writes_poses_of_the_optimum(exact_result):
     assert printed == (f"wrote {exact_result / 'poses.csv'}, {exact_result / 'poses.json'}: "
                        f"{n} poses every 0.05 m along the best path (2.245430 m)\n")
     lines = (exact_result / "poses.csv").read_text().splitlines()
-    assert lines[0] == "s,x,y,heading,curvature" and len(lines) == n + 1
+    assert lines[0] == "s,x,y,heading,curvature,gear" and len(lines) == n + 1
     assert n > best["length"] / 0.05
     table = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
     sc = load_scenario(ROBOCUP)

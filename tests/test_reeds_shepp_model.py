@@ -198,3 +198,25 @@ def test_the_peer_judge_understands_cusps():
     joined = judge_poses(sc, [sc.start, sc.goal], car="reeds-shepp")
     assert joined.length == pytest.approx(reeds_shepp.length(sc.start, sc.goal, RHO), abs=1e-12)
     assert joined.gaps == 0
+
+
+def test_export_writes_the_gear_and_the_cars_heading(tmp_path, capsys):
+    """The lane scene backs 1 m straight into its goal: every pose has gear -1 and the
+    car's heading (0, against its travel), and the poses end on the goal pose."""
+    import tomli_w
+
+    d = {"name": "lane", "robot": {"radius": 0.09, "min_turn_radius": 0.3,
+                                   "car": "reeds-shepp"},
+         "start": {"x": 2.0, "y": 1.0, "heading_deg": 0.0},
+         "goal": {"x": 1.0, "y": 1.0, "heading_deg": 0.0},
+         "obstacles": [{"x": x, "y": y} for x in (0.9, 1.3, 1.7, 2.1) for y in (0.6, 1.4)]}
+    path = tmp_path / "lane.toml"
+    path.write_text(tomli_w.dumps(d))
+    assert main(["exact", str(path), "--out", str(tmp_path / "a")]) == 0
+    assert main(["export", str(tmp_path / "a" / "result.json"), "--spacing", "0.1"]) == 0
+    capsys.readouterr()
+    doc = json.loads((tmp_path / "a" / "poses.json").read_text())
+    assert doc["columns"][-1] == "gear"
+    table = np.asarray(doc["poses"])
+    assert len(table) == 11 and np.all(table[:, 5] == -1.0)
+    assert np.allclose(table[:, 3], 0.0) and np.allclose(table[:, 1], np.linspace(2.0, 1.0, 11))

@@ -213,7 +213,7 @@ def _parser() -> argparse.ArgumentParser:
     xp = sub.add_parser("export", help="a result's path as poses (CSV and JSON)",
                         formatter_class=_Help, description="Sample the best path of a result "
                         "file, or run K's, every SPACING metres (and at each segment boundary "
-                        "and both ends) as poses s, x, y, heading, curvature; writes "
+                        "and both ends) as poses s, x, y, heading, curvature, gear; writes "
                         "poses.csv and poses.json.")
     xp.add_argument("result", help="result.json written by run or exact")
     xp.add_argument("--spacing", default="0.01", metavar="M",

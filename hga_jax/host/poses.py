@@ -1,21 +1,26 @@
-"""A path as poses: sampled ``(s, x, y, heading, curvature)`` at a chosen spacing.
+"""A path as poses: sampled ``(s, x, y, heading, curvature, gear)`` at a chosen spacing.
 
 Host-side numpy in float64 (no JAX). ``segments`` are the segment dicts of the
 result files (docs/model.md), in travel order: lines
 ``{"type": "line", "start": [x, y], "end": [x, y]}`` and arcs
 ``{"type": "arc", "center": [x, y], "radius": R, "start_angle": a, "sweep": w}``
-with ``w`` signed, positive counter-clockwise (CCW, turning left).
+with ``w`` signed, positive counter-clockwise (CCW, turning left); a piece driven
+backward (a Reeds–Shepp car) carries ``"reverse": true``.
 
 Columns of a pose table (one row per pose, in travel order):
 
 - ``s``: arc length from the start of the path (m);
 - ``x``, ``y``: position (m);
-- ``heading``: direction of travel (rad, counter-clockwise from +x), wrapped into
-  ``(-pi, pi]`` (``numpy.unwrap`` of the column gives a continuous one);
-- ``curvature``: signed (1/m): ``+1/R`` on an arc turning left (CCW), ``-1/R`` on
-  one turning right (CW), 0 on a line. It is the curvature of the piece that
-  starts at the pose (at the last pose, of the piece that ends there), so each
-  row's curvature holds exactly up to the next row.
+- ``heading``: the car's heading (rad, counter-clockwise from +x), wrapped into
+  ``(-pi, pi]`` (``numpy.unwrap`` of the column gives a continuous one): the
+  direction of travel, or its opposite where the car drives backward;
+- ``curvature``: signed (1/m): ``+1/R`` where the path turns left (CCW) as ``s``
+  grows, ``-1/R`` where it turns right (CW), 0 on a line. It is the curvature of the
+  piece that starts at the pose (at the last pose, of the piece that ends there), so
+  each row's curvature holds exactly up to the next row;
+- ``gear``: the sign of the speed on that piece: ``+1`` forward, ``-1`` backward (a
+  cusp is where it changes; the row at a cusp holds the new gear). Along the signed
+  distance the car drives (``gear * ds``) the steering curvature is ``gear * curvature``.
 
 Rows are at ``s = 0, spacing, 2 spacing, ...``, at every segment boundary and at
 the end ``s = length``; a multiple of ``spacing`` within ``TOL`` of a boundary
@@ -33,10 +38,11 @@ import numpy as np
 
 from .output import write_file
 
-COLUMNS = ("s", "x", "y", "heading", "curvature")
+COLUMNS = ("s", "x", "y", "heading", "curvature", "gear")
 UNITS = {"s": "m, arc length from the start", "x": "m", "y": "m",
          "heading": "rad, counter-clockwise from +x, in (-pi, pi]",
-         "curvature": "1/m, signed: positive turning left (counter-clockwise), 0 on lines"}
+         "curvature": "1/m, signed: positive turning left (counter-clockwise), 0 on lines",
+         "gear": "+1 driving forward, -1 backward"}
 TOL = 1e-9  # m: a multiple of the spacing this close to a segment boundary is left out
 
 
@@ -54,26 +60,30 @@ def _length(seg: Mapping[str, Any]) -> float:
 
 
 def _poses(seg: Mapping[str, Any], u: np.ndarray) -> np.ndarray:
-    """Rows ``(x, y, heading, curvature)`` at distances ``u`` (m) along one segment."""
+    """Rows ``(x, y, heading, curvature, gear)`` at distances ``u`` (m) along one segment."""
+    back = bool(seg.get("reverse"))
+    gear = np.full_like(u, -1.0 if back else 1.0)
+    face = math.pi if back else 0.0  # driven backward: the car faces against its travel
     if seg["type"] == "arc":
         (cx, cy), r = (float(v) for v in seg["center"]), float(seg["radius"])
         turn = 1.0 if float(seg["sweep"]) >= 0.0 else -1.0  # +1 CCW (left), -1 CW (right)
         angle = float(seg["start_angle"]) + turn * u / r
         return np.stack([cx + r * np.cos(angle), cy + r * np.sin(angle),
-                         wrap(angle + turn * math.pi / 2), np.full_like(u, turn / r)], axis=1)
+                         wrap(angle + turn * math.pi / 2 + face), np.full_like(u, turn / r),
+                         gear], axis=1)
     (x0, y0), (x1, y1) = (np.asarray(p, np.float64) for p in (seg["start"], seg["end"]))
     n = max(_length(seg), 1e-300)
     dx, dy = (x1 - x0) / n, (y1 - y0) / n
-    return np.stack([x0 + u * dx, y0 + u * dy, np.full_like(u, wrap(math.atan2(dy, dx))),
-                     np.zeros_like(u)], axis=1)
+    return np.stack([x0 + u * dx, y0 + u * dy, np.full_like(u, wrap(math.atan2(dy, dx) + face)),
+                     np.zeros_like(u), gear], axis=1)
 
 
 def sample(segments: Sequence[Mapping[str, Any]], spacing: float,
            start: Sequence[float] | None = None) -> np.ndarray:
-    """The pose table ``(k, 5)`` of a path (float64; columns :data:`COLUMNS`).
+    """The pose table ``(k, 6)`` of a path (float64; columns :data:`COLUMNS`).
 
     ``spacing``: metres between samples along the path (> 0). ``start``: the pose
-    ``(x, y, heading in rad)`` to return, alone at ``s = 0`` with curvature 0, for a
+    ``(x, y, heading in rad)`` to return, alone at ``s = 0`` with curvature 0 (gear +1), for a
     path without segments (start equal to goal); such a path without ``start`` is a
     ValueError.
     """
@@ -84,7 +94,7 @@ def sample(segments: Sequence[Mapping[str, Any]], spacing: float,
         if start is None:
             raise ValueError("a path without segments has no pose: give its start")
         x, y, h = (float(v) for v in start)
-        return np.array([[0.0, x, y, float(wrap(h)), 0.0]])
+        return np.array([[0.0, x, y, float(wrap(h)), 0.0, 1.0]])
     lengths = np.array([_length(seg) for seg in segments])
     bounds = np.concatenate([[0.0], np.cumsum(lengths)])  # boundaries, start and end
     total = float(bounds[-1])
@@ -94,7 +104,7 @@ def sample(segments: Sequence[Mapping[str, Any]], spacing: float,
     near = np.minimum(np.abs(grid - below), np.abs(above - grid)) <= TOL
     s = np.unique(np.concatenate([grid[(grid < total) & ~near], bounds]))
     piece = np.searchsorted(bounds[1:-1], s, side="right")  # the piece starting at s
-    table = np.empty((len(s), 5))
+    table = np.empty((len(s), len(COLUMNS)))
     table[:, 0] = s
     for i in np.unique(piece):
         rows = piece == i
@@ -120,7 +130,7 @@ def write_csv(path: str, table: np.ndarray) -> None:
 
 def write_json(path: str, table: np.ndarray, meta: Mapping[str, Any]) -> None:
     """Write a pose table as strict JSON, atomically: ``meta``'s keys, then
-    ``columns``, ``units`` and ``poses`` (one ``[s, x, y, heading, curvature]`` list
+    ``columns``, ``units`` and ``poses`` (one ``[s, x, y, heading, curvature, gear]`` list
     per pose, one pose a line)."""
     head = {**meta, "columns": list(COLUMNS), "units": UNITS}
     lines = ",\n".join("  " + json.dumps(r, allow_nan=False) for r in _rows(table))
