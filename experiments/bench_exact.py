@@ -10,7 +10,9 @@ a calibration figure: the machine is shared and its speed varies.
 The free-turn solver (``turns = "free"``) is timed on the same scenes, against the
 tight-rope solver twice: warm (the scenario's tangent table built, as ``seconds``
 reports) and cold (the table's build included, as the free-turn solver's own tangents
-are).
+are). The Reeds–Shepp solver (``car = "reeds-shepp"``) is timed on the same scenes
+against the free-turn solver: its own search (``seconds``) and the whole call (which
+solves the free-turn and tight-rope optima first, to bound its graph).
 
 Usage: ``python experiments/bench_exact.py [--scenes 8] [--repeats 5]``.
 """
@@ -83,6 +85,23 @@ def main() -> None:
         print(f"n={n:3d} free turns: median {f:7.2f} ms; tight rope {w:6.2f} ms warm "
               f"({f / w:5.1f}x), {c:6.2f} ms cold ({f / c:4.1f}x); {shorter} of {args.scenes} "
               "scenes shorter with free turns")
+    rng = np.random.default_rng(args.seed + 2)
+    for n in (9, 25, 40):
+        free, own, whole, shorter = [], [], [], 0
+        for _ in range(args.scenes):
+            sc = random_scene(rng, n)
+            solve(sc)
+            for _ in range(args.repeats):
+                free.append(solve(sc, turns="free").seconds)
+                t0 = time.perf_counter()
+                res = solve(sc, car="reeds-shepp")
+                whole.append(time.perf_counter() - t0)
+                own.append(res.seconds)
+            shorter += res.length < res.details["free_turn_length"] - 1e-9
+        f, o, w = (statistics.median(v) * 1e3 for v in (free, own, whole))
+        print(f"n={n:3d} Reeds-Shepp: median {o:7.2f} ms its own search, {w:7.2f} ms the whole "
+              f"call; free turns {f:6.2f} ms ({o / f:4.1f}x, whole {w / f:4.1f}x); {shorter} of "
+              f"{args.scenes} scenes shorter when reversing")
     print(f"calibration again: {calibration() * 1e3:.1f} ms")
 
 

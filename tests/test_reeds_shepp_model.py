@@ -220,3 +220,27 @@ def test_export_writes_the_gear_and_the_cars_heading(tmp_path, capsys):
     table = np.asarray(doc["poses"])
     assert len(table) == 11 and np.all(table[:, 5] == -1.0)
     assert np.allclose(table[:, 3], 0.0) and np.allclose(table[:, 1], np.linspace(2.0, 1.0, 11))
+
+
+def test_a_start_facing_a_wall_backs_away_and_check_says_ok(tmp_path, capsys):
+    """Facing the kept field's edge 0.11 m away with rho 0.3 m: no forward path exists
+    (the verdict names the edge); the Reeds-Shepp car backs away, with one cusp, and
+    `check` passes the scenario that says car = "reeds-shepp"."""
+    import tomli_w
+
+    d = {"name": "wall", "robot": {"radius": 0.09, "min_turn_radius": 0.3},
+         "start": {"x": 0.2, "y": 1.0, "heading_deg": 180.0},
+         "goal": {"x": 1.5, "y": 1.0, "heading_deg": 0.0},
+         "field": {"xmin": 0, "xmax": 3, "ymin": 0, "ymax": 2, "keep_inside": True},
+         "obstacles": []}
+    sc = scenario_from_dict(d, "wall")
+    free = solve(sc, turns="free")
+    assert not free.feasible and "left edge" in free.message
+    rs = solve(sc, car="reeds-shepp")
+    assert rs.feasible and rs.details["cusps"] >= 1
+    assert _rs_check.problems(d, rs.segments, rs.length) == []
+    d["robot"]["car"] = "reeds-shepp"
+    path = tmp_path / "wall.toml"
+    path.write_text(tomli_w.dumps(d))
+    assert main(["check", str(path)]) == 0
+    assert "Reeds-Shepp car" in capsys.readouterr().out

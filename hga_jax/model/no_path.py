@@ -5,11 +5,12 @@ records ``feasible: false`` with no length, and makes no claim about chromosomes
 :func:`why` says what stands in the way, most specific first:
 
 1. a pose that faces an edge of the kept field closer than a turn away from it
-   needs: a path of curvature at most ``1/rho`` whose heading makes the angle
-   ``theta`` with the edge's outward normal advances at least ``rho (1 - sin theta)``
-   towards the edge before it runs parallel to it, so at a distance ``d`` below that
-   every path leaves the field (both turning circles cross the edge ahead of the
-   pose). The goal is the same with the car's travel reversed (its back to the edge).
+   needs, for a car that only drives forward: a path of curvature at most ``1/rho``
+   whose heading makes the angle ``theta`` with the edge's outward normal advances at
+   least ``rho (1 - sin theta)`` towards the edge before it runs parallel to it, so at
+   a distance ``d`` below that every path leaves the field (both turning circles cross
+   the edge ahead of the pose). The goal is the same with the car's travel reversed
+   (its back to the edge). A car that also reverses backs away instead.
 2. a pose that no path of the model leaves (or enters): every piece out of its
    turning circles is blocked. The line names what each turning circle meets first
    and after how many degrees, and what the straight line ahead meets.
@@ -68,8 +69,8 @@ def why(sc: Scenario, collision: str = "full", turns: str = car_model.DEFAULT,
         gr: Graph | None = None) -> str:
     """Why the model of ``sc`` holds no feasible path, in one line (the caller has found
     none). ``gr``: the model's graph if already built."""
-    for pose in ("start", "goal"):
-        facing = _facing_edge(sc, pose)
+    for pose in ("start", "goal") if not car_model.get(turns).reverses else ():
+        facing = _facing_edge(sc, pose)  # a car that backs up is not held by an edge ahead
         if facing:
             return facing
     gr = graph_of(sc, collision, turns) if gr is None else gr
