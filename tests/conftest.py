@@ -34,8 +34,9 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.enviro
 
 @pytest.fixture
 def registries():
-    """Restore the operator registries after a test that registers its own operators."""
+    """Restore the operator and car-model registries after a test that registers its own."""
+    from hga_jax.model import car_model
     from hga_jax.search import registry
 
-    with registry.isolated():
+    with registry.isolated(), car_model.isolated():
         yield

@@ -55,7 +55,7 @@ def test_registry_lists_the_papers_model_first_and_names_the_allowed_values():
     assert "must be one of" in car_model.problem(3, "full")
 
 
-def test_a_name_is_registered_once():
+def test_a_name_is_registered_once(registries):
     class Other(car_model.CarModel):
         name = "free"
 
@@ -63,6 +63,25 @@ def test_a_name_is_registered_once():
         car_model.register(Other())
     model = car_model.get("free")
     assert car_model.register(model) is model  # the same object again: nothing changes
+
+    class Mine(car_model.CarModel):
+        name = "mine"
+
+    first = car_model.register(Mine())
+    again = car_model.register(Mine())  # a notebook cell run again replaces it
+    assert car_model.get("mine") is again is not first
+
+    class Mine(car_model.CarModel):  # noqa: F811  (another class under that name)
+        name = "mine"
+        describe = "other"
+
+    assert car_model.register(Mine()).describe == "other"
+
+    class Else(car_model.CarModel):
+        name = "mine"
+
+    with pytest.raises(ValueError, match="already registered"):
+        car_model.register(Else())
 
 
 @pytest.mark.parametrize("name", BUILT_IN + ("reeds-shepp",))

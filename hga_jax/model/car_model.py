@@ -26,8 +26,9 @@ A new model is one module with a subclass and one :func:`register` call
 """
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Iterator
 
 DEFAULT = "tight-rope"
 """The paper's model: the default of ``turns`` everywhere."""
@@ -159,14 +160,34 @@ def segment_kind(segment: dict[str, Any]) -> tuple[str, str | None]:
 
 
 def register(model: CarModel) -> CarModel:
-    """Make ``model`` known by its name (one name, one model); returns it."""
+    """Make ``model`` known by its name (one name, one model); returns it. A model of a
+    class of the same name as the registered one replaces it (a notebook cell or a
+    plugin run again), unless that one is built in."""
     if not model.name:
         raise ValueError("a car model needs a name")
-    if _MODELS.get(model.name, model) is not model:
-        raise ValueError(f"a car model named {model.name!r} is already registered")
     _builtins()  # the paper's model first, whoever registers first
+    old = _MODELS.get(model.name, model)
+    if old is not model and (built_in(old) or type(old).__qualname__ != type(model).__qualname__):
+        raise ValueError(f"a car model named {model.name!r} is already registered")
     _MODELS[model.name] = model
     return model
+
+
+def built_in(model: CarModel) -> bool:
+    """Whether ``model`` is one of hga-jax's own (its programs may be kept on disk)."""
+    return type(model).__module__.startswith(__package__ + ".")
+
+
+@contextlib.contextmanager
+def isolated() -> Iterator[None]:
+    """Registrations made inside the block are removed on leaving it (tests)."""
+    _builtins()
+    saved = dict(_MODELS)
+    try:
+        yield
+    finally:
+        _MODELS.clear()
+        _MODELS.update(saved)
 
 
 def _builtins() -> None:

@@ -109,8 +109,10 @@ def builtin_only(settings: Any) -> bool:
     """Whether every operator ``settings`` (a GASettings) names is built in: its
     programs then depend on hga_jax's code alone (:mod:`hga_jax.compiled` stores
     those on disk), when its car model is built in too."""
+    from hga_jax.model import car_model
+
     builtin = {(k, name) for k, name, *_ in BUILTINS}
-    return (type(settings.model).__module__.startswith("hga_jax.")
+    return (car_model.built_in(settings.model)
             and all((kind, getattr(settings, kind)) in builtin for kind in KINDS))
 
 
