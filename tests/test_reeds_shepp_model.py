@@ -244,3 +244,24 @@ def test_a_start_facing_a_wall_backs_away_and_check_says_ok(tmp_path, capsys):
     path.write_text(tomli_w.dumps(d))
     assert main(["check", str(path)]) == 0
     assert "Reeds-Shepp car" in capsys.readouterr().out
+
+
+def test_poses_on_one_point_and_their_summaries():
+    """The goal on the start pose: 0 m, and the summary prints (no ratio to a 0 m tight
+    rope). The goal on the start point facing back: a three-arc turn with two cusps,
+    pi rho long, where the forward car needs more."""
+    from hga_jax.host.report import exact_summary
+
+    base = {"name": "p", "robot": {"radius": 0.09, "min_turn_radius": RHO, "car": "reeds-shepp"},
+            "obstacles": [], "start": {"x": 1.0, "y": 1.0, "heading_deg": 30.0}}
+    same = scenario_from_dict(dict(base, goal={"x": 1.0, "y": 1.0, "heading_deg": 30.0}), "p")
+    opt = solve(same)
+    assert opt.length == 0.0 and opt.segments == []
+    assert "tight-rope optimum 0.000000 m" in exact_summary(same, opt)
+    d = dict(base, goal={"x": 1.0, "y": 1.0, "heading_deg": 210.0})
+    back = scenario_from_dict(d, "p")
+    opt = solve(back)
+    assert opt.length == pytest.approx(math.pi * RHO, abs=1e-9) and opt.details["cusps"] == 2
+    assert opt.details["free_turn_length"] > opt.length + 0.1
+    assert _rs_check.problems(d, opt.segments, opt.length) == []
+    assert "2 cusps" in exact_summary(back, opt)

@@ -90,8 +90,10 @@ class ReedsShepp(car_model.CarModel):
         tight = self.extras(optimum)["tight_rope_length"]
         from .no_path import NO_PATH
 
-        return [line, f"tight-rope optimum: {NO_PATH}" if tight is None else
-                f"tight-rope optimum {tight:.6f} m (ratio {optimum.length / tight:.6f})"]
+        if tight is None:
+            return [line, f"tight-rope optimum: {NO_PATH}"]
+        ratio = f" (ratio {optimum.length / tight:.6f})" if tight > 0 else ""
+        return [line, f"tight-rope optimum {tight:.6f} m{ratio}"]
 
 
 def solve_reeds_shepp(scenario: Any) -> Any:
