@@ -39,6 +39,17 @@ def _scene(rng, obstacles=(), field=None, rho=RHO):
     return d
 
 
+def _with_a_cusp():
+    """``(scenario, optimum)`` of the first random open scene whose optimum has a cusp."""
+    rng = np.random.default_rng(3)
+    for _ in range(60):
+        sc = scenario_from_dict(_scene(rng), "rs")
+        opt = solve(sc, car="reeds-shepp")
+        if opt.details["cusps"]:
+            return sc, opt
+    raise AssertionError("no scene with a cusp among 60")
+
+
 def test_with_no_obstacles_the_optimum_is_the_closed_form():
     rng = np.random.default_rng(7)
     for k in range(60):
@@ -144,13 +155,7 @@ def test_bad_car_values_are_one_line(tmp_path, capsys):
 def test_plots_draw_backward_pieces_and_cusps():
     from hga_jax.host.plots import plot_path
 
-    rng = np.random.default_rng(3)
-    for _ in range(40):  # a scene whose optimum has a cusp
-        d = _scene(rng)
-        sc = scenario_from_dict(d, "rs")
-        opt = solve(sc, car="reeds-shepp")
-        if opt.details["cusps"]:
-            break
+    sc, opt = _with_a_cusp()
     fig = plot_path(sc, opt.segments)
     ax = fig.axes[0]
     cusps = [a for a in ax.get_lines() if a.get_gid() == "cusp"]
@@ -181,13 +186,7 @@ def test_the_peer_judge_understands_cusps():
     a break there."""
     from hga_jax.peers.judge import judge_poses, judge_segments
 
-    rng = np.random.default_rng(3)
-    for _ in range(60):
-        d = _scene(rng)
-        sc = scenario_from_dict(d, "rs")
-        opt = solve(sc, car="reeds-shepp")
-        if opt.details["cusps"]:
-            break
+    sc, opt = _with_a_cusp()
     j = judge_segments(sc, opt.segments)
     assert j.feasible and j.gaps == 0 and j.length == pytest.approx(opt.length, abs=1e-12)
     k = next(i for i, s in enumerate(opt.segments) if s.get("reverse"))

@@ -25,7 +25,6 @@ import math
 
 import numpy as np
 
-from hga_jax.host.config import scenario_from_dict
 from hga_jax.model import leg_space
 from hga_jax.model.exact import solve
 from hga_jax.model.free_turn_model import FREE_TURNS
@@ -94,14 +93,5 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
     if density is not None:
         raise ValueError(f"{kind} scenes take no density")
     rng = np.random.default_rng([seed, n, index, STREAM])
-    for _ in range(MAX_TRIES):
-        d = draw(kind, rng, n, name)
-        if d is None:
-            continue
-        try:
-            sc = scenario_from_dict(d, name)
-        except ValueError:  # a pose too close to an obstacle: draw again
-            continue
-        if kept(sc):
-            return d
-    raise RuntimeError(f"no {kind} scene with {n} obstacles found in {MAX_TRIES} tries")
+    return scene_files.first_kept(lambda: draw(kind, rng, n, name), kept, name, MAX_TRIES,
+                                  f"{kind} scene with {n} obstacles")

@@ -87,3 +87,22 @@ def place_uniform(rng, n: int, w: float, h: float, start, goal, obstructed: bool
             continue
         out.append(c)
     return np.array(out).reshape(n, 2)
+
+
+def first_kept(draw, kept, name: str, tries: int, what: str) -> dict:
+    """The first scene mapping that ``draw()`` makes (None: nothing placed) which loads as
+    a scenario named ``name`` (a pose too close to an obstacle or a wall is drawn again)
+    and is ``kept(scenario)``; ``RuntimeError`` naming ``what`` after ``tries`` draws."""
+    from hga_jax.host.config import scenario_from_dict
+
+    for _ in range(tries):
+        d = draw()
+        if d is None:
+            continue
+        try:
+            sc = scenario_from_dict(d, name)
+        except ValueError:
+            continue
+        if kept(sc):
+            return d
+    raise RuntimeError(f"no {what} found in {tries} tries")
