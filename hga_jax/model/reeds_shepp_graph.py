@@ -14,7 +14,11 @@ way. In terms of the curve it draws, the reversing car therefore
   travel are opposite (one sense touching from outside, opposite senses one inside
   the other): a cusp, a piece of length 0 at the contact point;
 - turns on free circles of radius rho held by two contacts, in either sense, since
-  a contact may be a cusp (:func:`hga_jax.model.free_circles.free_circles`, ``both``);
+  a contact may be a cusp (:func:`hga_jax.model.free_circles.free_circles`, ``both``),
+  and on *quarter-turn* circles (:func:`quarter_turns`): a free circle met at a cusp
+  on one circle, turned a quarter of a turn and left along a tangent to another
+  circle, or the same driven the other way (Reeds and Shepp's C|C(pi/2)SC words,
+  whose middle arc is a quarter turn at an optimum);
 - and drives every Reeds–Shepp word from the start pose to the goal pose that is
   clear of the obstacles and the field (:mod:`hga_jax.model.reeds_shepp`), a piece of
   its own, so that with no obstacles the optimum is the closed form.
@@ -56,7 +60,78 @@ class Pieces(NamedTuple):
     words: list[list[dict[str, Any]]]
 
 
-def circles(sc: Scenario, bound: float = math.inf) -> tuple[tuple[np.ndarray, ...], int]:
+GRID = 720  # contact angles tried per pair of circles for a quarter-turn circle
+
+
+def quarter_turns(sc: Scenario, circ, back: int, bound: float = math.inf):
+    """``(x, y, sign)`` of the quarter-turn circles (module doc) of the circles ``circ``
+    (``(x, y, r, sign, own)``: the scenario's, then from ``back`` on the backward pose
+    circles). For every start circle A (either sense) and every other circle B, a free
+    circle F of radius rho touches A from outside at the contact angle phi and turns in
+    A's sense (a cusp at the contact); from the contact F turns a quarter turn to where
+    the tangent from F to B leaves it. For every goal circle A, likewise driven the
+    other way: the tangent from B arrives on F a quarter turn before the contact. (The
+    cusps of a parking manoeuvre; a quarter turn between two obstacles is not held.)
+    A circle is kept only when its route can be part of a path shorter than ``bound``
+    (m): the start point to the route, the route's tangent and quarter turn, and on to
+    the goal point, in straight lines, add up to ``bound`` or less. The angles phi are the roots of that condition on a grid of
+    :data:`GRID` angles, refined by bisection."""
+    x, y, r, sg, own = circ
+    rho = float(sc.min_turn_radius)
+    out = []
+    for leaving, poses in ((True, ids.START), (False, ids.GOAL)):
+        anchors = np.r_[poses, back + np.asarray(poses)]
+        a, b = (m.ravel() for m in np.meshgrid(anchors, np.arange(x.size), indexing="ij"))
+        keep = (a != b) & (np.hypot(x[b] - x[a], y[b] - y[a]) > r[a] + r[b] + TOL.eps)
+        a, b = a[keep], b[keep]
+
+        def route(phi, a=a, b=b, leaving=leaving):
+            """The contact point P, F's centre and the tangent between F and B at contact
+            angles ``phi``; the sweep on F between P and the tangent's end there."""
+            ux, uy = np.cos(phi), np.sin(phi)
+            fx, fy = x[a] + (r[a] + rho) * ux, y[a] + (r[a] + rho) * uy
+            px, py = x[a] + r[a] * ux, y[a] + r[a] * uy
+            one = np.ones_like(fx)
+            if leaving:
+                t = g.tangent(fx, fy, rho * one, sg[a], x[b], y[b], r[b], sg[b], one, 0 * one,
+                              TOL.eps)
+                swp = g.sweep(px - fx, py - fy, t.p1x - fx, t.p1y - fy, sg[a], 0.0)
+            else:
+                t = g.tangent(x[b], y[b], r[b], sg[b], fx, fy, rho * one, sg[a], one, 0 * one,
+                              TOL.eps)
+                swp = g.sweep(t.p2x - fx, t.p2y - fy, px - fx, py - fy, sg[a], 0.0)
+            return (px, py), (fx, fy), t, swp
+
+        def miss(phi, a=a, b=b, leaving=leaving):
+            *_, t, swp = route(phi, a, b, leaving)
+            off = np.remainder(swp - math.pi / 2 + math.pi, 2.0 * math.pi) - math.pi
+            return np.where(t.exists, off, np.nan)
+
+        phi = np.linspace(0.0, 2.0 * math.pi, GRID + 1)
+        h = miss(phi[:, None], a[None], b[None], leaving)  # (GRID + 1, pairs)
+        k, j = np.nonzero((np.sign(h[:-1]) * np.sign(h[1:]) < 0)
+                          & (np.abs(h[:-1]) < 0.5) & (np.abs(h[1:]) < 0.5))
+        lo, hi = phi[k], phi[k + 1]
+        flo = h[k, j]
+        for _ in range(48):  # bisection to rounding
+            mid = 0.5 * (lo + hi)
+            fm = miss(mid, a[j], b[j], leaving)
+            left = np.sign(fm) == np.sign(flo)
+            lo, hi, flo = np.where(left, mid, lo), np.where(left, hi, mid), np.where(left, fm, flo)
+        mid = 0.5 * (lo + hi)
+        (px, py), (fx, fy), t, _ = route(mid, a[j], b[j], leaving)
+        # The route's shortest way: the start point to P (or to the tangent's start on
+        # B), the tangent, the quarter turn, on to the goal point (or from P).
+        sx, sy, gx, gy = sc.start[0], sc.start[1], sc.goal[0], sc.goal[1]
+        first = np.hypot(px - sx, py - sy) if leaving else np.hypot(t.p1x - sx, t.p1y - sy)
+        last = np.hypot(t.p2x - gx, t.p2y - gy) if leaving else np.hypot(px - gx, py - gy)
+        near = first + t.length + rho * math.pi / 2 + last <= bound
+        out.append((fx[near], fy[near], sg[a[j]][near]))
+    return tuple(np.concatenate(v) for v in zip(*out))
+
+
+def circles(sc: Scenario, bound: float = math.inf, quarter: bool = True
+            ) -> tuple[tuple[np.ndarray, ...], int]:
     """``((x, y, r, sign, own), back)``: the scenario's circles, the four pose circles
     travelled backward from ``back = C`` on (the start's left and right, then the
     goal's: the same circles, the other sense), then the free circles of either sense
@@ -68,8 +143,16 @@ def circles(sc: Scenario, bound: float = math.inf) -> tuple[tuple[np.ndarray, ..
     def with_back(v, w):
         return np.concatenate([v[:c], w[pose], v[c:]])
 
-    return (with_back(x, x), with_back(y, y), with_back(r, r), with_back(sign, -sign),
-            with_back(own, own).astype(np.int32)), c
+    circ = (with_back(x, x), with_back(y, y), with_back(r, r), with_back(sign, -sign),
+            with_back(own, own).astype(np.int32))
+    if not quarter:
+        return circ, c
+    fixed = tuple(v[:c + ids.POSES] for v in circ)
+    qx, qy, qs = quarter_turns(sc, fixed, c, bound)
+    rho = float(sc.min_turn_radius)
+    return (np.concatenate([circ[0], qx]), np.concatenate([circ[1], qy]),
+            np.concatenate([circ[2], np.full(qx.size, rho)]), np.concatenate([circ[3], qs]),
+            np.concatenate([circ[4], np.full(qx.size, -1)]).astype(np.int32)), c
 
 
 def _cusps(sc: Scenario, circ, back: int, bound: float):
@@ -151,10 +234,12 @@ def _words(sc: Scenario, back: int, bound: float):
             np.asarray(kept, float)), segs
 
 
-def build(sc: Scenario, bound: float = math.inf) -> tuple[Graph, Pieces]:
+def build(sc: Scenario, bound: float = math.inf, quarter: bool = True
+          ) -> tuple[Graph, Pieces]:
     """The graph (module doc) and its pieces; with a finite ``bound`` (m) without what no
-    path shorter than it can use (pass the free-turn optimum, a little raised)."""
-    circ, back = circles(sc, bound)
+    path shorter than it can use (pass the free-turn optimum, a little raised).
+    ``quarter``: with the quarter-turn circles."""
+    circ, back = circles(sc, bound, quarter)
     tangents = free_turns._tangents(sc, circ, bound)
     cusps = _cusps(sc, circ, back, bound)
     words, segs = _words(sc, back, bound)
@@ -211,9 +296,17 @@ def shortest(sc: Scenario, bound: float = math.inf):
     segments in the result files' format with ``"reverse": true`` on every piece driven
     backward; ``length`` inf and empty lists when no path exists (or none shorter than
     ``bound``)."""
-    gr, parts = build(sc, bound)
+    # The graph without quarter turns first (small): its optimum bounds the full graph's,
+    # which holds every path of it, so the second search finds that one or a shorter one.
+    gr, parts = build(sc, bound, quarter=False)
     h = np.hypot(gr.nx - float(sc.goal[0]), gr.ny - float(sc.goal[1])).tolist()
     length, edges, _ = search(gr, h, distinct=False)
+    if edges:
+        full, full_parts = build(sc, min(bound, length * (1.0 + 1e-9) + 1e-12))
+        h2 = np.hypot(full.nx - float(sc.goal[0]), full.ny - float(sc.goal[1])).tolist()
+        length2, edges2, _ = search(full, h2, distinct=False)
+        if edges2 and length2 <= length:
+            gr, parts, length, edges = full, full_parts, length2, edges2
     if not edges:
         return math.inf, [], [], 0
     segs, touched = _walk(gr, parts, edges, back=ids.count(sc.n))
