@@ -264,3 +264,26 @@ def test_poses_on_one_point_and_their_summaries():
     assert opt.details["free_turn_length"] > opt.length + 0.1
     assert _rs_check.problems(d, opt.segments, opt.length) == []
     assert "2 cusps" in exact_summary(back, opt)
+
+
+def test_quarter_turns_hold_the_backing_manoeuvre_ompl_found():
+    """A slot scene where OMPL's BIT* (Reeds-Shepp space) once found a 0.6500 m path while
+    the model without quarter-turn circles held 0.6539 m: a small forward turn, a cusp
+    onto a free circle, a quarter turn and a tangent into the slot. With them the
+    optimum is shorter than OMPL's path, and every quarter-turn circle touches a pose
+    circle from outside."""
+    from hga_jax.model import reeds_shepp_graph as rg
+    from hga_jax.study import parking
+
+    d = parking.generate("slot", 9, 77, 11, "slot_n009_011")
+    sc = scenario_from_dict(d, "slot")
+    opt = solve(sc)
+    assert opt.length < 0.6500 and _rs_check.problems(d, opt.segments, opt.length) == []
+    circ, back = rg.circles(sc, quarter=False)
+    fixed = tuple(v[:back + 4] for v in circ)
+    qx, qy, qs = rg.quarter_turns(sc, fixed, back)
+    x, y, r = fixed[:3]
+    anchors = np.r_[0, 1, back, back + 1, 2, 3, back + 2, back + 3]
+    d_to = (np.hypot(qx[:, None] - x[anchors], qy[:, None] - y[anchors])
+            - (r[anchors] + sc.min_turn_radius))
+    assert qx.size > 0 and np.all(np.min(np.abs(d_to), axis=1) < 1e-9)
