@@ -287,3 +287,26 @@ def test_quarter_turns_hold_the_backing_manoeuvre_ompl_found():
     d_to = (np.hypot(qx[:, None] - x[anchors], qy[:, None] - y[anchors])
             - (r[anchors] + sc.min_turn_radius))
     assert qx.size > 0 and np.all(np.min(np.abs(d_to), axis=1) < 1e-9)
+
+
+def test_run_takes_car_from_the_command_line(tmp_path, capsys):
+    """`run --car dubins` on a Reeds-Shepp scenario searches the forward car; `run --car
+    reeds-shepp` on a forward one says in one line that the GA does not search it."""
+    import tomli_w
+
+    d = {"name": "c", "robot": {"radius": 0.09, "min_turn_radius": 0.2, "car": "reeds-shepp"},
+         "start": {"x": 0.5, "y": 0.5, "heading_deg": 0.0},
+         "goal": {"x": 1.5, "y": 0.9, "heading_deg": 0.0}, "obstacles": [],
+         "ga": {"population": 10, "generations": 2}}
+    path = tmp_path / "c.toml"
+    path.write_text(tomli_w.dumps(d))
+    assert main(["run", str(path), "--car", "dubins", "--preset", "paper", "--runs", "2",
+                 "--out", str(tmp_path / "a"), "--quiet"]) == 0
+    assert "optimum" in capsys.readouterr().out
+    d["robot"]["car"] = "dubins"
+    path.write_text(tomli_w.dumps(d))
+    assert main(["run", str(path), "--car", "reeds-shepp", "--out", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "does not search" in err[0] and not (tmp_path / "b").exists()
+    assert main(["run", str(path), "--car", "bike", "--out", str(tmp_path / "b")]) == 2
+    assert "--car: must be one of dubins, reeds-shepp" in capsys.readouterr().err

@@ -31,6 +31,7 @@ interrupted (Ctrl-C or SIGTERM; a run keeps its finished batches for ``--resume`
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import contextlib
 import errno
 import functools
@@ -147,6 +148,7 @@ def _parser() -> argparse.ArgumentParser:
                        help=f"{text} (recommended: {getattr(RECOMMENDED, key)}, "
                             f"paper: {getattr(PAPER, key)}){tail}")
     _pose_args(run)
+    _car_arg(run)
     _plugin_arg(run)
     run.add_argument("--chunk", type=int, metavar="N", help="runs per compiled batch (default: "
                      "about 50,000 chromosomes per batch, fewer if memory is short)")
@@ -181,9 +183,7 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("--turns", metavar="NAME", default=car_model.DEFAULT,
                     help="the car model: " + car_model.help_text() + "; or one a --plugin "
                     "registers")
-    ex.add_argument("--car", metavar="CAR", help="the car: " + ", ".join(car_model.cars())
-                    + " (default: the scenario's [robot] car, else dubins); reeds-shepp "
-                    "also drives backward")
+    _car_arg(ex)
     _pose_args(ex)
     _plugin_arg(ex)
     _output_args(ex, "results/<scenario file name>-exact")
@@ -236,6 +236,21 @@ def _pose_args(p: argparse.ArgumentParser) -> None:
         p.add_argument(f"--{key}", metavar="X,Y,HEADING_DEG",
                        help=f"replace the scenario's {key} pose: metres, metres, degrees "
                        f"counter-clockwise from +x (--{key}=-1,2,90 for a negative X)")
+
+
+def _car_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--car", metavar="CAR", help="replace the scenario's [robot] car: "
+                   + ", ".join(car_model.cars()) + " (reeds-shepp also drives backward)")
+
+
+def _with_car(scenario, args):
+    """The scenario with ``--car`` as its car (checked: one line naming the flag)."""
+    if args.car is None:
+        return scenario
+    if args.car not in car_model.cars():
+        raise validation.error("command line", "--car", f"must be one of "
+                               f"{', '.join(car_model.cars())}, got {args.car!r}")
+    return dataclasses.replace(scenario, car=args.car)
 
 
 def _pose_flags(args) -> dict[str, Any]:
@@ -353,7 +368,7 @@ def _emit(text: str) -> None:
 
 def _cmd_run(args) -> int:
     plugins = _plugins(args)
-    scenario = load_scenario(args.scenario, _pose_flags(args))
+    scenario = _with_car(load_scenario(args.scenario, _pose_flags(args)), args)
     settings = _settings(scenario, args.ga, {k: getattr(args, k) for k in GA_FLAGS},
                          PRESETS[args.preset])
     validation.run_range(args.seed, args.runs, args.first_run, args.chunk, "command line",
@@ -462,13 +477,9 @@ def _search_runs(args, scenario, settings, out: str, prior, joined: bool, plugin
 
 def _cmd_exact(args) -> int:
     _plugins(args)
-    scenario = load_scenario(args.scenario, _pose_flags(args))
+    scenario = _with_car(load_scenario(args.scenario, _pose_flags(args)), args)
     collision = args.collision or _settings(scenario, None, {}).collision
-    car = args.car or scenario.car
-    try:
-        turns = car_model.resolve(args.turns, car)
-    except ValueError as e:
-        raise validation.error("command line", "--car", str(e)) from None
+    turns = car_model.resolve(args.turns, scenario.car)
     validation.turns(turns, collision, "command line", "--car" if args.car else "--turns")
     out = args.out or _default_out(args.scenario, "-exact")
     from .output import check_folder
