@@ -69,9 +69,17 @@ def oriented_circles(start, goal, centres, model_radii, rho) -> tuple[np.ndarray
 
 def build(start, goal, centres, model_radii, rho, bounds) -> TangentTable:
     """The table of a scenario given as numpy arrays of one float dtype (see module doc)."""
+    return table(oriented_circles(start, goal, centres, model_radii, rho), centres,
+                 model_radii, bounds)
+
+
+def table(circles, centres, model_radii, bounds) -> TangentTable:
+    """The table over any oriented circles ``(x, y, r, sign, obstacle)`` (numpy, the
+    dtype of ``centres``): the scenario's :func:`oriented_circles`, or those and the
+    circles a car model adds after them, numbered on."""
     dt = np.asarray(centres).dtype
     tol = g.tolerances(dt)
-    x, y, r, sign, obstacle = oriented_circles(start, goal, centres, model_radii, rho)
+    x, y, r, sign, obstacle = circles
     c = x.size
     a, b = (m.ravel() for m in np.meshgrid(np.arange(c), np.arange(c), indexing="ij"))
     one, zero = np.ones(a.size, dt), np.zeros(a.size, dt)
