@@ -279,6 +279,7 @@ def test_quarter_turns_hold_the_backing_manoeuvre_ompl_found():
     sc = scenario_from_dict(d, "slot")
     opt = solve(sc)
     assert opt.length < 0.6500 and _rs_check.problems(d, opt.segments, opt.length) == []
+    assert [tuple(t) for t in opt.touched] == [(1, 1)]  # one touch, however many arcs
     circ, back = rg.circles(sc, quarter=False)
     fixed = tuple(v[:back + 4] for v in circ)
     qx, qy, qs = rg.quarter_turns(sc, fixed, back)

@@ -337,8 +337,9 @@ def _walk(gr: Graph, parts: Pieces, edges: list[int], back: int):
                     segs[-1]["free"] = True
                 if backward:
                     segs[-1]["reverse"] = True
-                if own[c] >= 0 and c < back:
-                    touched.append(Touch(int(own[c]) + 1, int(sg[c])))
+                touch = Touch(int(own[c]) + 1, int(sg[c]))
+                if own[c] >= 0 and c < back and touched[-1:] != [touch]:  # not split arcs
+                    touched.append(touch)
             segs[-1]["sweep"] -= float(sg[c] * gr.sweep[k])
             arc_on = c
             continue
