@@ -27,6 +27,7 @@ A new model is one module with a subclass and one :func:`register` call
 from __future__ import annotations
 
 import contextlib
+import math
 from dataclasses import dataclass
 from typing import Any, Iterator
 
@@ -157,6 +158,12 @@ def segment_kind(segment: dict[str, Any]) -> tuple[str, str | None]:
         return segment["type"], None
     words = "; ".join(w.format(type=segment["type"]) for _, w in flags)
     return " ".join(f for f, _ in flags) + " " + segment["type"], words
+
+
+def finite(value: float | None) -> float | None:
+    """``value`` where it is a finite length (m), else None (what the result files write
+    for an optimum that does not exist)."""
+    return value if value is not None and math.isfinite(value) else None
 
 
 def register(model: CarModel) -> CarModel:

@@ -67,7 +67,7 @@ class FreeTurns(car_model.CarModel):
 
     def extras(self, optimum: Any) -> dict[str, Any]:
         tight = optimum.tight_rope_length
-        return {"tight_rope_length": None if tight is None or not math.isfinite(tight) else tight,
+        return {"tight_rope_length": car_model.finite(tight),
                 "free_arcs": optimum.free_arcs}
 
     def summary(self, optimum: Any) -> dict[str, Any]:

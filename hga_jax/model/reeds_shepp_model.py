@@ -65,8 +65,8 @@ class ReedsShepp(car_model.CarModel):
 
     def extras(self, optimum: Any) -> dict[str, Any]:
         tight, free = optimum.tight_rope_length, optimum.details.get("free_turn_length")
-        finite = (lambda v: v if v is not None and math.isfinite(v) else None)  # noqa: E731
-        return {"tight_rope_length": finite(tight), "free_turn_length": finite(free),
+        return {"tight_rope_length": car_model.finite(tight),
+                "free_turn_length": car_model.finite(free),
                 "cusps": optimum.details.get("cusps", 0)}
 
     def summary(self, optimum: Any) -> dict[str, Any]:
