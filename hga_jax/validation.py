@@ -122,7 +122,8 @@ def read_toml(path: Any) -> dict[str, Any]:
 
 def car(scenario: Any, settings: GASettings) -> None:
     """A ConfigError naming the scenario's ``robot.car`` when the GA of ``settings``
-    cannot search that car's paths (its model is not one the GA searches)."""
+    cannot search that car's paths: its model is not one the GA searches, or not under
+    the settings' collision test."""
     from hga_jax.model import car_model
 
     name = car_model.resolve(settings.turns, scenario.car)
@@ -130,6 +131,10 @@ def car(scenario: Any, settings: GASettings) -> None:
         raise error(scenario.source, "robot.car", f"{scenario.car}: the GA does not search "
                     "its paths yet; its optimum is a yardstick (hga-jax exact, a study's "
                     "yardstick)")
+    problem = car_model.problem(name, settings.collision)
+    if problem:
+        raise error(scenario.source, "robot.car", f"{scenario.car}: {problem} (the settings' "
+                    "collision)")
 
 
 def strings(value: Any, source: str, key: str) -> list[str]:

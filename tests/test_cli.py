@@ -433,11 +433,12 @@ def test_preset_paper_reproduces_the_papers_settings_and_is_recorded(tmp_path):
                      "--preset", preset, "--out", str(out)]) == 0
         docs[preset] = json.loads((out / "result.json").read_text())
     assert docs["paper"]["preset"] == "paper"
-    assert docs["paper"]["settings"] == {**dataclasses.asdict(PAPER), "generations": 3}
+    assert docs["paper"]["settings"] == {**dataclasses.asdict(PAPER), "generations": 3,
+                                       "car": "dubins"}
     assert docs["recommended"]["preset"] == "recommended"
     # result.json holds the settings the runs used (the budget rule resolved) and the rule
     assert docs["recommended"]["settings"] == {**dataclasses.asdict(RECOMMENDED), "generations": 3,
-                                               "generations_per_obstacle": 0}
+                                               "generations_per_obstacle": 0, "car": "dubins"}
     assert docs["recommended"]["budget"] == {
         "rule": "generations = 3 + 24 * max(0, n - 9)", "obstacles": 1, "generations": 3,
         "evaluations_per_run": 50 * 4}

@@ -143,11 +143,13 @@ def test_bad_car_values_are_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--car" in err[0] and "tank" in err[0]
     assert not (tmp_path / "o").exists()
-    assert main(["run", str(path), "--out", str(tmp_path / "r")]) == 2
+    assert main(["run", str(path), "--collision", "paper", "--out", str(tmp_path / "r")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "robot.car" in err[0] and "does not search" in err[0]
-    with pytest.raises(ConfigError, match="does not search"):
-        GASettings(turns="reeds-shepp")
+    assert len(err) == 1 and "robot.car" in err[0] and "full collision test" in err[0]
+    assert str(path) in err[0] and "'paper'" in err[0]
+    assert not (tmp_path / "r").exists()
+    with pytest.raises(ConfigError, match="full collision test"):
+        GASettings(turns="reeds-shepp", collision="paper")
     with pytest.raises(ValueError, match="full collision test"):
         solve(scenario_from_dict(d, "s"), "paper")
 
@@ -292,7 +294,7 @@ def test_quarter_turns_hold_the_backing_manoeuvre_ompl_found():
 
 def test_run_takes_car_from_the_command_line(tmp_path, capsys):
     """`run --car dubins` on a Reeds-Shepp scenario searches the forward car; `run --car
-    reeds-shepp` on a forward one says in one line that the GA does not search it."""
+    reeds-shepp` on a forward one searches the Reeds-Shepp car's paths and records it."""
     import tomli_w
 
     d = {"name": "c", "robot": {"radius": 0.09, "min_turn_radius": 0.2, "car": "reeds-shepp"},
@@ -304,10 +306,16 @@ def test_run_takes_car_from_the_command_line(tmp_path, capsys):
     assert main(["run", str(path), "--car", "dubins", "--preset", "paper", "--runs", "2",
                  "--out", str(tmp_path / "a"), "--quiet"]) == 0
     assert "optimum" in capsys.readouterr().out
+    forward = json.loads((tmp_path / "a" / "result.json").read_text())
+    assert forward["settings"]["car"] == "dubins" and forward["settings"]["turns"] == "tight-rope"
     d["robot"]["car"] = "dubins"
     path.write_text(tomli_w.dumps(d))
-    assert main(["run", str(path), "--car", "reeds-shepp", "--out", str(tmp_path / "b")]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "does not search" in err[0] and not (tmp_path / "b").exists()
+    assert main(["run", str(path), "--car", "reeds-shepp", "--preset", "paper", "--runs", "2",
+                 "--out", str(tmp_path / "b"), "--quiet"]) == 0
+    capsys.readouterr()
+    both = json.loads((tmp_path / "b" / "result.json").read_text())
+    assert both["settings"]["car"] == "reeds-shepp" and both["settings"]["turns"] == "reeds-shepp"
+    # With no obstacles the optimum is the closed form, no longer than the forward car's.
+    assert both["optimum"]["length"] <= forward["optimum"]["length"] + 1e-9
     assert main(["run", str(path), "--car", "bike", "--out", str(tmp_path / "b")]) == 2
     assert "--car: must be one of dubins, reeds-shepp" in capsys.readouterr().err

@@ -102,6 +102,19 @@ def test_every_registered_operator_gives_valid_output(kind, name, legs):
         assert 0.3 < float(np.mean(np.asarray(out) != np.asarray(g))) < 0.7  # about half
         np.testing.assert_array_equal(jax.vmap(lambda k, x: fn(k, x, 0.0))(keys, g), g)
         np.testing.assert_array_equal(jax.vmap(lambda k, x: fn(k, x, 1.0))(keys, g) != g, True)
+    elif kind == "end_mutation":  # seven-valued genes of a reversing car, positional
+        g = jnp.asarray(np.random.default_rng(6).integers(0, 7, (BATCH, N + 2)), jnp.int32)
+        l2, g2 = jax.jit(jax.vmap(lambda k, l, x: fn(k, l, x, 7)))(keys, la, g)
+        _assert_labels(l2, N)
+        g2 = np.asarray(g2)
+        assert g2.shape == g.shape and ((g2 >= 0) & (g2 < 7)).all()
+        if name == "none":
+            assert np.array_equal(l2, la) and np.array_equal(g2, g)
+        else:  # one end redrawn: the start's label and genes 0 and N + 1, or the goal's
+            la_, l2_ = np.asarray(la), np.asarray(l2)
+            same = (l2_ == la_) & (g2 == np.asarray(g))
+            assert same[:, 1:-1].sum() >= same[:, 1:-1].size - BATCH  # one middle gene at most
+            assert not same.all()
     else:
         p2, l2 = jax.jit(jax.vmap(lambda k, p, l: fn(k, p, l, legs)))(keys, a, la)
         _assert_perms(p2, N), _assert_labels(l2, N)

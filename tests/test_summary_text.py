@@ -17,7 +17,7 @@ def test_every_operator_name_in_the_summary_is_the_one_used(registries, base):
         name = f"my_{kind}"
         registry.register(kind, name, lambda *a, **k: None)
         names[kind] = name
-    st = dataclasses.replace(base, turns="free", **names)
+    st = dataclasses.replace(base, turns="reeds-shepp", **names)  # the model using every kind
     text = operators(st)
     for kind, name in names.items():
         assert name in text, kind

@@ -63,6 +63,8 @@ OPERATOR_HELP = {  # operator kind (a setting, registry.KINDS) -> help
     "path_mutation": "move on the touched sequence applied to children (none: off)",
     "leg_crossover": "crossover of the leg genes (with --turns free)",
     "leg_mutation": "mutation of the leg genes (with --turns free)",
+    "end_mutation": "move on the ends of the path (the Reeds-Shepp car: start's circle, "
+                    "gear and first leg, or goal's circle and last leg)",
 }
 GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "registry"
     "population": (int, None, "individuals per run"),
@@ -89,6 +91,7 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
               "measured against: " + car_model.help_text()),
     "pc_legs": (float, None, "crossover probability per pair of parents, leg genes"),
     "pm_legs": (float, None, "mutation probability per gene, leg genes"),
+    "pm_ends": (float, None, "probability per child of the end move (the Reeds-Shepp car)"),
 }
 
 

@@ -23,7 +23,8 @@ from .output import csv_writer, figure_writer, json_writer, write_result
 from hga_jax.model.no_path import NO_PATH, verdict
 from hga_jax.model.touch import touch_list
 from hga_jax.words import count, pct, touches
-from hga_jax.running.results import RunsResult, json_safe, optimum_dict, result_document
+from hga_jax.running.results import (RunsResult, json_safe, optimum_dict, result_document,
+                                     settings_dict)
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 
@@ -49,6 +50,8 @@ def _extras(st: GASettings) -> str:
         out.append(f"{st.model.words}: {g.words}, {getattr(st, g.crossover)} crossover "
                    f"(pc {getattr(st, g.pc):g}), {getattr(st, g.mutation)} mutation "
                    f"(pm {getattr(st, g.pm):g} per gene)")
+        if g.ends and getattr(st, g.ends) != "none":
+            out.append(f"end move {getattr(st, g.ends)} (pm {getattr(st, g.pe):g})")
     if st.path_mutation != "none":
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
     if st.seeding > 0:
@@ -136,7 +139,7 @@ def run_json(res: RunsResult, written: list[str]) -> dict[str, Any]:
     """What ``hga-jax run --json`` prints: the summary and the files written."""
     return json_safe({
         "command": "run", "scenario": res.scenario.name, "source": res.scenario.source,
-        "seed": res.seed, "settings": asdict(res.settings), "summary": res.summary(),
+        "seed": res.seed, "settings": settings_dict(res.settings), "summary": res.summary(),
         "best": {"run": res.best_run, "length": res.best.length,
                  "feasible": res.best.feasible, "violations": res.best.violations,
                  "touched": touch_list(res.best.touched)},
@@ -275,7 +278,7 @@ def load_partial(out: str, scenario: Scenario, settings: Any, seed: int, first_r
                           "run leaves result.json and partial.npz)")
     doc = load_result(where)
     fresh = json.loads(json.dumps(result_document(scenario, {
-        "settings": dataclasses.asdict(settings.for_obstacles(scenario.n))})))
+        "settings": settings_dict(settings.for_car(scenario.car).for_obstacles(scenario.n))})))
     mine = {"scenario": (doc["scenario"]["definition"], fresh["scenario"]["definition"]),
             "settings": (doc["settings"], fresh["settings"]), "seed": (part["seed"], seed),
             "first run": (part["first_run"], first_run),
@@ -423,7 +426,8 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
     st_keys = data["settings"]
     collision = st_keys.get("collision", "full")
     turns = st_keys.get("turns", car_model.DEFAULT)
-    st = GASettings(**st_keys) if "population" in st_keys else None
+    st = (GASettings(**{k: v for k, v in st_keys.items() if k != "car"})
+          if "population" in st_keys else None)
     chosen = result_path(path, data, sc, run)
     if run is None:
         what = (car_model.get(turns).optimum_name if st is None or chosen is None

@@ -50,6 +50,8 @@ class GeneModule:
     crossover, mutation: the :class:`~hga_jax.search.settings.GASettings` fields (and
     :mod:`hga_jax.search.registry` kinds) naming their operators; pc, pm: the fields of
     their rates (per pair, per gene). words: how summaries name the genes.
+    ends, pe: the fields of the move on the path's ends and of its rate per child (a
+    reversing car's, :mod:`hga_jax.search.end_ops`; empty: none).
     """
 
     name: str
@@ -59,6 +61,8 @@ class GeneModule:
     pc: str
     pm: str
     words: str
+    ends: str = ""
+    pe: str = ""
 
 
 class CarModel:

@@ -29,6 +29,7 @@ import jax.numpy as jnp
 from hga_jax.model import circle_ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
+from hga_jax.model import reversing
 from .scenario import ScenarioArrays
 
 
@@ -44,10 +45,16 @@ class Decoded(NamedTuple):
       (rad, >= 0); slot ``count - 1`` is the goal arc ending at the goal point.
     lines: (B, S - 1, 5) per leg ``p1x, p1y, p2x, p2y, exists``; leg s joins slot s
       to slot s + 1 and is real for ``s < count - 1``.
-    free: (B, S - 1, 4) per leg ``fx, fy, sweep, is_free`` when decoded with leg genes:
-      a leg with ``is_free`` 1 runs from P1 to P2 over the free circle of centre
-      ``(fx, fy)`` and radius rho, turning against slot s's circle, by ``sweep`` (rad);
-      None without leg genes.
+    free: (B, S - 1, 4) per leg ``fx, fy, sweep, sense`` when decoded with leg genes:
+      a leg with ``sense`` +1 (CW) or -1 (CCW) runs from P1 to P2 over the free circle
+      of centre ``(fx, fy)`` and radius rho, turning that way by ``sweep`` (rad); 0 for
+      a tangent. A reversing car's has 9 columns: then ``q1x, q1y, q2x, q2y, cusps``:
+      the leg runs straight from P1 to Q1, over the free circle to Q2, straight to P2,
+      with a cusp at Q1 (``cusps`` bit 0) and at Q2 (bit 1)
+      (:mod:`hga_jax.model.reeds_shepp_legs`). None without leg genes.
+    gears: (B, 2) bool, whether the path leaves the start and arrives at the goal
+      driven backward (a car that reverses, :mod:`hga_jax.model.reeds_shepp_legs`);
+      None for the forward car.
     """
 
     length: Any
@@ -58,6 +65,7 @@ class Decoded(NamedTuple):
     arcs: Any
     lines: Any
     free: Any = None
+    gears: Any = None
 
 
 def position_circles(perm, labels):
@@ -134,6 +142,9 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
     tol = g.tolerances(dt)
     c = tb.circles.shape[0]
     count, ids, genes = _path_circles(perm, labels, legs)
+    gears = None
+    if genes is not None and sa.free_legs.cusps is not None:  # a car that reverses
+        ids, gears = reversing.compacted(ids, genes, count, tb.circles[:, 3], legs[:, -1], c)
     cx, cy, r, sign = (tb.circles[:, i][ids] for i in range(4))
     oid = tb.obstacle[ids]
     obstacles = col.obstacles(sa.centres, sa.model_radii, ndim=1)  # (n, 1) against (B,) pieces
@@ -145,11 +156,12 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
         table = jnp.stack([m.reshape(-1).astype(dt) for m in (
             tb.p1x, tb.p1y, tb.p2x, tb.p2y, tb.length, tb.exists, tb.coincident,
             tb.violations_full if full else tb.violations_paper)], axis=-1)
-    else:  # rows (gene * C + a) * C + b, the free circle's centre, sweep and flag after
+    else:  # rows (gene * C + a) * C + b, the free circle's centre, sweep and sense after
         fl = sa.free_legs
+        more = () if fl.cusps is None else (fl.q1x, fl.q1y, fl.q2x, fl.q2y, fl.cusps)
         table = jnp.stack([m.reshape(-1).astype(dt) for m in (
             fl.p1x, fl.p1y, fl.p2x, fl.p2y, fl.length, fl.exists, fl.coincident,
-            fl.violations, fl.fx, fl.fy, fl.sweep, fl.free)], axis=-1)
+            fl.violations, fl.fx, fl.fy, fl.sweep, fl.fsign) + more], axis=-1)
 
     def arc_violations(circle, a, b, swp):
         ccx, ccy, cr, cs, cid, _ = circle
@@ -188,7 +200,7 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
         line = jnp.stack([p1x, p1y, p2x, p2y, exists.astype(dt)])
         if gene is None:
             return new, (arc, line, None)
-        return new, (arc, line, jnp.stack([row[:, 8], row[:, 9], row[:, 10], row[:, 11]]))
+        return new, (arc, line, jnp.stack([row[:, k] for k in range(8, row.shape[1])]))
 
     cols = (cx, cy, r, sign, oid, ids)
     first = tuple(col[:-1] for col in cols)
@@ -227,4 +239,5 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
         arcs=arcs.transpose(2, 0, 1),
         lines=lines.transpose(2, 0, 1),
         free=None if free is None else free.transpose(2, 0, 1),
+        gears=gears,
     )

@@ -15,6 +15,7 @@ from typing import Any, NamedTuple
 import jax
 import jax.numpy as jnp
 
+from . import reversing as reversing_rule
 from .decode import decode_batch, position_circles
 from .scenario import ScenarioArrays
 
@@ -44,7 +45,8 @@ def length_of_fitness(fitness):
     return FITNESS_CONST / fitness - 1.0
 
 
-def looked_up(entries, circles: int, perm, labels, legs=None):
+def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
+              reversing: bool = False):
     """Length (m) and violations of a batch ``perm`` (B, n), ``labels`` (B, n + 2)
     from a turn table's ``entries`` ((V C + 1) * C * (V C + 1), 2) with ``circles = C``.
 
@@ -52,14 +54,23 @@ def looked_up(entries, circles: int, perm, labels, legs=None):
     path's last circle ``b`` (``i = v_a C + a``, the start point standing for it at
     first) and ``b``; each touched circle ``c`` (the goal circle always) adds turn
     ``(i, b, v_b C + c)`` and moves on; the goal arc is turn ``(i, goal circle, goal
-    point)``. ``legs`` (B, n + 2), positional: the leg genes of free turns (``V = 3``,
-    :mod:`hga_jax.model.free_legs`); without them ``V = 1``, the tight rope.
+    point)``. ``legs`` (B, n + 2), positional: the leg genes of free turns
+    (:mod:`hga_jax.model.free_legs`), ``V = variants``; without them ``V = 1``, the
+    tight rope. ``reversing``: the genes are a reversing car's, whose start and goal
+    circles follow its gears (:mod:`hga_jax.model.reversing`): the scan also carries
+    the gear changes so far.
     """
     c, entries = circles, jnp.asarray(entries)
     ids, touched = position_circles(perm, labels)
     batch = perm.shape[0]
     dt = entries.dtype
-    rows = c if legs is None else 3 * c  # V C: the start point's row, the goal point's column
+    rows = c if legs is None else variants * c  # V C: the start point's row, the goal point's column
+    genes = None if legs is None else legs.T.astype(jnp.int32)  # (S, B)
+    if reversing:
+        lab = labels.T.astype(jnp.int32)
+        back = reversing_rule.start_backward(genes[-1])
+        ids = ids.at[0].add(reversing_rule.offset(c) * back.astype(ids.dtype))
+        last = jnp.arange(ids.shape[0] - 1) == ids.shape[0] - 2  # the goal's step
 
     def turn(i, b, d, on=True):
         # (B, 2): one gather per position. An untouched position reads row 0, the
@@ -69,20 +80,27 @@ def looked_up(entries, circles: int, perm, labels, legs=None):
         return entries[jnp.where(on, (i * c + b) * (rows + 1) + d, 0)]
 
     def body(carry, xs):
-        i, b, vb, length, viol = carry
-        nxt, on, vn = xs
+        i, b, vb, length, viol, gear = carry
+        nxt, on, vn, ln, goal = xs
+        if gear is not None:  # the goal circle of the gear the path arrives in
+            lb, odd = gear
+            first = i == rows  # the leg leaves the start
+            odd = odd ^ (on & reversing_rule.odd_leg(vb, lb, ln, first, goal))
+            nxt = nxt + reversing_rule.offset(c) * (goal & (odd ^ back)).astype(nxt.dtype)
+            gear = (jnp.where(on, ln, lb), odd)
         row = turn(i, b, nxt if vb is None else vb * c + nxt, on)
         length = length + jnp.where(on, row[:, 0], 0.0)
         viol = viol + jnp.where(on, row[:, 1], 0.0)
         i = jnp.where(on, b if vb is None else vb * c + b, i)
         vb = None if vb is None else jnp.where(on, vn, vb)
-        return (i, jnp.where(on, nxt, b), vb, length, viol), None
+        return (i, jnp.where(on, nxt, b), vb, length, viol, gear), None
 
-    genes = None if legs is None else legs.T.astype(jnp.int32)  # (S, B)
+    gear0 = (lab[0], jnp.zeros((batch,), bool)) if reversing else None
     init = (jnp.full((batch,), rows, jnp.int32), ids[0], None if genes is None else genes[0],
-            jnp.zeros((batch,), dt), jnp.zeros((batch,), dt))
-    xs = (ids[1:], touched[1:], None if genes is None else genes[1:])
-    (i, b, _, length, viol), _ = jax.lax.scan(body, init, xs)
+            jnp.zeros((batch,), dt), jnp.zeros((batch,), dt), gear0)
+    xs = (ids[1:], touched[1:], None if genes is None else genes[1:],
+          lab[1:] if reversing else None, last if reversing else None)
+    (i, b, _, length, viol, _), _ = jax.lax.scan(body, init, xs)
     row = turn(i, b, jnp.full((batch,), rows, jnp.int32))
     return length + row[:, 0], (viol + row[:, 1]).astype(jnp.int32)
 
@@ -98,5 +116,8 @@ def evaluate(sa: ScenarioArrays, perm, labels, collision: str = "full", legs=Non
         d = decode_batch(sa, perm, labels, collision, legs)
         length, violations = d.length, d.violations
     else:
-        length, violations = looked_up(table, sa.tangents.circles.shape[0], perm, labels, legs)
+        reversing = legs is not None and sa.free_legs.cusps is not None
+        variants = 1 if legs is None else sa.free_legs.p1x.shape[0]
+        length, violations = looked_up(table, sa.tangents.circles.shape[0], perm, labels, legs,
+                                       variants, reversing)
     return Evaluation(fitness_of(length, violations, sa.delta), length, violations)

@@ -74,7 +74,12 @@ class LegTable(NamedTuple):
     the tangent's length or the free arc's ``rho * sweep`` (m). exists, coincident,
     violations: the tangent's (a free leg: 1, 0, 0; violations under the full rule).
     free: the entry is a free leg. fx, fy, sweep: its free circle's centre and the free
-    arc's sweep (rad; 0 for tangents); the free circle turns against ``a``.
+    arc's sweep (rad; 0 for tangents). fsign: the free circle's sense (``+1`` CW, ``-1``
+    CCW; 0 for a tangent): under free turns it turns against ``a``.
+    cusps: a reversing car's cusps of each entry (bit 0: at its first contact, bit 1:
+    at its last; :mod:`hga_jax.model.reeds_shepp_legs`); None for a car that only
+    drives forward. q1x, q1y, q2x, q2y: a reversing car's legs run straight from P1 to
+    Q1, over the free circle to Q2 and straight to P2 (quarter turns); None otherwise.
     """
 
     p1x: np.ndarray
@@ -89,6 +94,12 @@ class LegTable(NamedTuple):
     fx: np.ndarray
     fy: np.ndarray
     sweep: np.ndarray
+    fsign: np.ndarray
+    cusps: np.ndarray | None = None
+    q1x: np.ndarray | None = None
+    q1y: np.ndarray | None = None
+    q2x: np.ndarray | None = None
+    q2y: np.ndarray | None = None
 
 
 def leg_table(sc: Scenario, dtype: Any = np.float64) -> LegTable:
@@ -129,29 +140,44 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
 
 
 def _leg_table(sc: Scenario, dtype: np.dtype) -> LegTable:
-    tb = sc.arrays(dtype).tangents
+    legs = table(sc)
+    return assemble(sc.arrays(dtype).tangents, legs, legs.side + 1, VARIANTS,
+                    float(sc.min_turn_radius), dtype)
+
+
+def assemble(tb: Any, legs: FreeLegs, genes: np.ndarray, variants: int, rho: float,
+             dtype: np.dtype, cusps: np.ndarray | None = None) -> LegTable:
+    """The :class:`LegTable` of ``variants`` genes over the circles of the tangent table
+    ``tb``: gene 0 the tangent (or, where it has a violation, the shorter clear free leg
+    without cusps that joins the same circles), gene ``genes[k]`` the free leg ``k`` of
+    ``legs``, and gene 0's leg for every gene with no free leg. ``cusps``: the cusps of
+    each free leg (a car that reverses; None: the forward car's, none)."""
     c = np.asarray(tb.circles).shape[0]
     straight = {name: np.asarray(getattr(tb, name), dtype) for name in
                 ("p1x", "p1y", "p2x", "p2y", "length", "exists", "coincident")}
     straight["violations"] = np.asarray(tb.violations_full, dtype)
     straight["free"] = np.zeros((c, c), bool)
-    for name in ("fx", "fy", "sweep"):
+    for name in ("fx", "fy", "sweep", "fsign"):
         straight[name] = np.zeros((c, c), dtype)
-    legs = table(sc)
-    rho = float(sc.min_turn_radius)
+    if cusps is not None:
+        straight["cusps"] = np.zeros((c, c), dtype)
     free = {"p1x": legs.p1x, "p1y": legs.p1y, "p2x": legs.p2x, "p2y": legs.p2y,
             "length": rho * legs.sweep, "exists": 1.0, "coincident": 0.0, "violations": 0.0,
-            "free": True, "fx": legs.fx, "fy": legs.fy, "sweep": legs.sweep}
+            "free": True, "fx": legs.fx, "fy": legs.fy, "sweep": legs.sweep,
+            "fsign": legs.sign}
+    if cusps is not None:
+        free["cusps"] = cusps
     # Gene 0 where the tangent is bad: the shorter clear free leg (the longer one first,
     # so that the shorter one is written last and stays).
-    bad = straight["violations"][legs.S, legs.T] > 0
+    smooth = np.ones(legs.S.size, bool) if cusps is None else cusps == 0
+    bad = (straight["violations"][legs.S, legs.T] > 0) & smooth
     order = np.argsort(-legs.sweep[bad], kind="stable")
     rows = np.flatnonzero(bad)[order]
     zero = {name: v.copy() for name, v in straight.items()}
     for name, value in free.items():
         zero[name][legs.S[rows], legs.T[rows]] = value if np.ndim(value) == 0 else value[rows]
-    cols = {name: np.repeat(v[None], VARIANTS, axis=0) for name, v in zero.items()}
-    at = (legs.side + 1, legs.S, legs.T)
+    cols = {name: np.repeat(v[None], variants, axis=0) for name, v in zero.items()}
+    at = (genes, legs.S, legs.T)
     for name, value in free.items():
         cols[name][at] = value
     return LegTable(**cols)
@@ -161,16 +187,24 @@ def table(sc: Scenario) -> FreeLegs:
     """Every free leg of ``sc`` whose free arc is clear (obstacles, field): from a start
     or obstacle circle to an obstacle or goal circle of the same orientation, never
     between one obstacle's two circles."""
-    x, y, r, sg, own = sc.circles(np.float64)
-    rho, c = float(sc.min_turn_radius), x.size
+    x, y, r, sg, own = circ = sc.circles(np.float64)
+    c = x.size
     src, dst = ids.sources(c), ids.targets(c)
     a, b = (m.ravel() for m in np.meshgrid(src, dst, indexing="ij"))
     keep = (sg[a] == sg[b]) & ~((own[a] == own[b]) & (own[a] >= 0))
-    a, b = a[keep], b[keep]
+    return between(sc, circ, a[keep], b[keep], -1.0)
+
+
+def between(sc: Scenario, circ, a: np.ndarray, b: np.ndarray, sense: float) -> FreeLegs:
+    """The clear free legs from circles ``a`` to circles ``b`` (indices into ``circ =
+    (x, y, r, sign, own)``, float64), their free circle turning ``sense`` times the way
+    ``a`` turns (-1: against it, a smooth change of circle; +1: the same way, a cusp)."""
+    x, y, r, sg, own = circ
+    rho = float(sc.min_turn_radius)
     fx, fy, k = free_circles.pair_centres(x[a], y[a], r[a] + rho, x[b], y[b], r[b] + rho)
     side = (np.arange(fx.size) >= fx.size // 2).astype(np.int32)  # + solution first: left
     a, b = a[k], b[k]
-    fs = -sg[a]
+    fs = sense * sg[a]
 
     def contact(i):  # the point of circle i on the way to the free circle's centre
         return (x[i] + r[i] * (fx - x[i]) / (r[i] + rho),
@@ -178,8 +212,8 @@ def table(sc: Scenario) -> FreeLegs:
 
     (p1x, p1y), (p2x, p2y) = contact(a), contact(b)
     swp = g.sweep(p1x - fx, p1y - fy, p2x - fx, p2y - fy, fs, TOL.angle)
-    circ = (fx, fy, np.full(fx.size, rho), fs, np.full(fx.size, -1))
+    free = (fx, fy, np.full(fx.size, rho), fs, np.full(fx.size, -1))
     sa = sc.arrays(np.float64)
-    ok = col.arcs_clear(circ, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp), sa.centres,
+    ok = col.arcs_clear(free, np.arange(fx.size), (p1x, p1y, p2x, p2y, swp), sa.centres,
                         sa.model_radii, sa.bounds, TOL.length)
     return FreeLegs(*(v[ok] for v in (a, b, side, fx, fy, fs, p1x, p1y, p2x, p2y, swp)))

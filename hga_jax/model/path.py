@@ -20,7 +20,7 @@ import numpy as np
 
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
-from . import free_legs
+from . import free_legs, reversing
 from hga_jax.errors import ConfigError
 from .scenario import Scenario
 from .touch import Touch, touch_list
@@ -62,9 +62,7 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full", legs=Non
 
     parts = []
     with jax.enable_x64(True):
-        sa = scenario.arrays(np.float64)
-        if legs is not None:
-            sa = sa._replace(free_legs=free_legs.leg_table(scenario))
+        sa = _arrays64(scenario, legs is not None)
         block = (lambda a: None if a is None else a[:BLOCK])
         key = ("decode64", collision, legs is None, tuple(
             (np.shape(a), np.result_type(a).name) for a in jax.tree.leaves(sa)))
@@ -75,6 +73,27 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full", legs=Non
                        legs=None if legs is None else legs[i:i + BLOCK])
             parts.append(jax.tree.map(np.asarray, d))
     return jax.tree.map(lambda *xs: np.concatenate(xs)[:rows], *parts)
+
+
+def reverses(scenario: Scenario) -> bool:
+    """Whether the scenario's car also drives backward (its chromosomes' leg genes then
+    carry gears, :mod:`hga_jax.model.reversing`)."""
+    from . import car_model
+
+    return car_model.of_car(scenario.car).reverses
+
+
+def _arrays64(scenario: Scenario, genes: bool):
+    """The float64 arrays that decode the scenario's chromosomes (with leg genes: its
+    car's leg table)."""
+    sa = scenario.arrays(np.float64)
+    if not genes:
+        return sa
+    if reverses(scenario):
+        from . import reeds_shepp_legs as rs
+
+        return sa._replace(tangents=rs.tangent_table(scenario), free_legs=rs.leg_table(scenario))
+    return sa._replace(free_legs=free_legs.leg_table(scenario))
 
 
 @dataclass
@@ -89,10 +108,11 @@ class Path:
       travel order, as in :class:`~hga_jax.model.exact.ExactResult`; ``to_dict`` writes
       them in the result files' format, ``{"obstacle": number from 1, "label": ...}``.
     violations_at: one dict per violation: ``{"kind": "obstacle" | "missing tangent" |
-      "field", "segment": index into segments (None for a zero-length piece),
+      "field" | "missing cusp", "segment": index into segments (None for a zero-length piece),
       "obstacle": number from 1 (None unless kind is "obstacle")}``.
     legs: the leg genes of a free-turn chromosome (positional, as ``lower``), or None;
-      arcs on free circles carry ``"free": true`` in ``segments``.
+      arcs on free circles carry ``"free": true`` in ``segments``, and pieces driven
+      backward (a car that reverses) ``"reverse": true``.
     """
 
     length: float
@@ -170,34 +190,62 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
     segments: list[dict[str, Any]] = []
     where: list[dict[str, Any]] = []
     count = int(d.count)
+    backward = [d.gears is not None and bool(d.gears[0])]  # the gear now
+    slots = np.flatnonzero(labels != 0)  # the position of each of the path's circles
+
+    def straight(ends) -> list[dict[str, Any]]:
+        """A quarter turn's tangent (none where its ends meet), located."""
+        if np.hypot(ends[2] - ends[0], ends[3] - ends[1]) <= TINY:
+            return []
+        add({"type": "line", "start": [ends[0], ends[1]], "end": [ends[2], ends[3]]})
+        return locate.line(ends, True, len(segments) - 1)
+
+    def add(segment: dict[str, Any]) -> None:
+        if backward[0]:
+            segment["reverse"] = True
+        segments.append(segment)
+
     for s in range(count):
         cx, cy, r, sign = (float(v) for v in d.circles[s])
         ax, ay, bx, by, swp = (float(v) for v in d.arcs[s])
         drawn = swp > 0.0
         if drawn:
-            segments.append({
-                "type": "arc", "center": [cx, cy], "radius": r,
-                "start_angle": float(np.arctan2(ay - cy, ax - cx)), "sweep": -sign * swp,
-            })
+            add({"type": "arc", "center": [cx, cy], "radius": r,
+                 "start_angle": float(np.arctan2(ay - cy, ax - cx)), "sweep": -sign * swp})
         where += locate.arc((cx, cy, r, sign), int(d.obstacle[s]), (ax, ay, bx, by, swp),
                             len(segments) - 1 if drawn else None)
-        if s < count - 1 and d.free is not None and d.free[s][3] > 0.5:
-            fx, fy, fswp = (float(v) for v in d.free[s][:3])
+        if s < count - 1 and d.free is not None and abs(float(d.free[s][3])) > 0.5:
+            fx, fy, fswp, fs = (float(v) for v in d.free[s][:4])
             p1x, p1y, p2x, p2y, _ = (float(v) for v in d.lines[s])
             rho = float(scenario.min_turn_radius)
+            if d.gears is None:  # the forward car: over the free circle from P1 to P2
+                (q1x, q1y, q2x, q2y), cusps = (p1x, p1y, p2x, p2y), 0
+            else:  # P1 to Q1 straight, the free circle to Q2, straight to P2; cusps at Q1, Q2
+                q1x, q1y, q2x, q2y = (float(v) for v in d.free[s][4:8])
+                cusps = int(round(float(d.free[s][8])))
+            where += straight((p1x, p1y, q1x, q1y))
+            backward[0] ^= bool(cusps & 1)
             if fswp > 0.0:
-                segments.append({"type": "arc", "center": [fx, fy], "radius": rho,
-                                 "start_angle": float(np.arctan2(p1y - fy, p1x - fx)),
-                                 "sweep": sign * fswp, "free": True})
-            where += locate.arc((fx, fy, rho, -sign), -1, (p1x, p1y, p2x, p2y, fswp),
+                add({"type": "arc", "center": [fx, fy], "radius": rho,
+                     "start_angle": float(np.arctan2(q1y - fy, q1x - fx)),
+                     "sweep": -fs * fswp, "free": True})
+            where += locate.arc((fx, fy, rho, fs), -1, (q1x, q1y, q2x, q2y, fswp),
                                 len(segments) - 1 if fswp > 0.0 else None)
+            backward[0] ^= bool(cusps & 2)
+            where += straight((q2x, q2y, p2x, p2y))
         elif s < count - 1:
             p1x, p1y, p2x, p2y, exists = (float(v) for v in d.lines[s])
             drawn = bool(np.hypot(p2x - p1x, p2y - p1y) > TINY)
             if drawn:
-                segments.append({"type": "line", "start": [p1x, p1y], "end": [p2x, p2y]})
+                add({"type": "line", "start": [p1x, p1y], "end": [p2x, p2y]})
             where += locate.line((p1x, p1y, p2x, p2y), exists > 0.5,
                                  len(segments) - 1 if drawn else None)
+            if d.gears is not None and bool(reversing.odd_leg(
+                    int(legs[slots[s]]), sign, float(d.circles[s + 1][3]), s == 0, s == count - 2)):
+                # the gene promised a free circle with a cusp that does not exist
+                where.append({"kind": "missing cusp", "segment": len(segments) - 1 if drawn
+                              else None, "obstacle": None})
+                backward[0] = not backward[0]
     touched = [Touch(int(d.obstacle[s]) + 1, int(d.circles[s][3])) for s in range(1, count - 1)]
     return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where,
                 None if legs is None else [int(v) for v in legs])

@@ -63,19 +63,43 @@ class Pieces(NamedTuple):
 GRID = 720  # contact angles tried per pair of circles for a quarter-turn circle
 
 
-def quarter_turns(sc: Scenario, circ, back: int, bound: float = math.inf):
-    """``(x, y, sign)`` of the quarter-turn circles (module doc) of the circles ``circ``
-    (``(x, y, r, sign, own)``: the scenario's, then from ``back`` on the backward pose
-    circles). For every start circle A (either sense) and every other circle B, a free
-    circle F of radius rho touches A from outside at the contact angle phi and turns in
-    A's sense (a cusp at the contact); from the contact F turns a quarter turn to where
-    the tangent from F to B leaves it. For every goal circle A, likewise driven the
-    other way: the tangent from B arrives on F a quarter turn before the contact. (The
-    cusps of a parking manoeuvre; a quarter turn between two obstacles is not held.)
-    A circle is kept only when its route can be part of a path shorter than ``bound``
-    (m): the start point to the route, the route's tangent and quarter turn, and on to
-    the goal point, in straight lines, add up to ``bound`` or less. The angles phi are the roots of that condition on a grid of
-    :data:`GRID` angles, refined by bisection."""
+class Quarter(NamedTuple):
+    """Quarter-turn routes (:func:`quarter_routes`), one row each: the anchor ``a`` (a
+    pose circle) and the circle ``b`` the route joins, whether it ``leaves`` the anchor
+    (a start circle) or arrives on it (a goal circle), the contact point P on ``a``, the
+    free circle's centre F and sense (``a``'s), the tangent between F and ``b`` (as
+    :func:`hga_jax.model.geometry.tangent` gives it, from ``b`` to F when arriving) and
+    its length, and the sweep on F between P and the tangent (rad)."""
+
+    a: np.ndarray
+    b: np.ndarray
+    leaves: np.ndarray
+    px: np.ndarray
+    py: np.ndarray
+    fx: np.ndarray
+    fy: np.ndarray
+    sign: np.ndarray
+    t1x: np.ndarray
+    t1y: np.ndarray
+    t2x: np.ndarray
+    t2y: np.ndarray
+    length: np.ndarray
+    sweep: np.ndarray
+
+
+def quarter_routes(sc: Scenario, circ, back: int, bound: float = math.inf) -> Quarter:
+    """The quarter-turn routes of the circles ``circ`` (``(x, y, r, sign, own)``: the
+    scenario's, and from ``back`` on the four pose circles driven backward). For every
+    start circle A (either sense) and every other circle B, a free circle F of radius
+    rho touches A from outside at the contact angle phi and turns in A's sense (a cusp
+    at the contact); from the contact F turns a quarter turn to where the tangent from
+    F to B leaves it. For every goal circle A, likewise driven the other way: the
+    tangent from B arrives on F a quarter turn before the contact. (The cusps of a
+    parking manoeuvre; a quarter turn between two obstacles is not held.) A route is
+    kept only when it can be part of a path shorter than ``bound`` (m): the start
+    point to the route, the route's tangent and quarter turn, and on to the goal point,
+    in straight lines, add up to ``bound`` or less. The angles phi are the roots of that
+    condition on a grid of :data:`GRID` angles, refined by bisection."""
     x, y, r, sg, own = circ
     rho = float(sc.min_turn_radius)
     out = []
@@ -119,15 +143,24 @@ def quarter_turns(sc: Scenario, circ, back: int, bound: float = math.inf):
             left = np.sign(fm) == np.sign(flo)
             lo, hi, flo = np.where(left, mid, lo), np.where(left, hi, mid), np.where(left, fm, flo)
         mid = 0.5 * (lo + hi)
-        (px, py), (fx, fy), t, _ = route(mid, a[j], b[j], leaving)
+        (px, py), (fx, fy), t, swp = route(mid, a[j], b[j], leaving)
         # The route's shortest way: the start point to P (or to the tangent's start on
         # B), the tangent, the quarter turn, on to the goal point (or from P).
         sx, sy, gx, gy = sc.start[0], sc.start[1], sc.goal[0], sc.goal[1]
         first = np.hypot(px - sx, py - sy) if leaving else np.hypot(t.p1x - sx, t.p1y - sy)
         last = np.hypot(t.p2x - gx, t.p2y - gy) if leaving else np.hypot(px - gx, py - gy)
         near = first + t.length + rho * math.pi / 2 + last <= bound
-        out.append((fx[near], fy[near], sg[a[j]][near]))
-    return tuple(np.concatenate(v) for v in zip(*out))
+        out.append(Quarter(a[j], b[j], np.full(j.size, leaving), px, py, fx, fy, sg[a[j]],
+                           t.p1x, t.p1y, t.p2x, t.p2y, t.length, swp))
+        out[-1] = Quarter(*(v[near] for v in out[-1]))
+    return Quarter(*(np.concatenate(v) for v in zip(*out)))
+
+
+def quarter_turns(sc: Scenario, circ, back: int, bound: float = math.inf):
+    """``(x, y, sign)`` of the quarter-turn circles (:func:`quarter_routes`) of the
+    circles ``circ``, leaving ones first."""
+    q = quarter_routes(sc, circ, back, bound)
+    return q.fx, q.fy, q.sign
 
 
 def circles(sc: Scenario, bound: float = math.inf, quarter: bool = True

@@ -8,8 +8,9 @@ is never longer than the free-turn optimum, which is never longer than the tight
 rope's; the result reports all three. Its arcs on free circles are judged against
 every obstacle, so the model needs the full collision test. A piece driven backward
 carries ``"reverse": true`` in the segments of the result files; summaries count the
-cusps. The GA does not search its paths yet: the model is a yardstick (``exact``, a
-study's ``yardstick``). Host code; metres.
+cusps. The GA searches its paths with leg genes of five values and the start's gear
+(:mod:`hga_jax.model.reeds_shepp_legs`, :mod:`hga_jax.model.reversing`). Host code;
+metres.
 """
 from __future__ import annotations
 
@@ -22,14 +23,24 @@ from hga_jax.errors import ModelMismatchError
 from hga_jax.words import count
 from . import car_model
 
+LEGS = car_model.GeneModule(name="legs", weights=(2, 1, 1, 1, 1, 1, 1),
+                            crossover="leg_crossover", mutation="leg_mutation", pc="pc_legs",
+                            pm="pm_legs", words="leg genes (with gears)", ends="end_mutation",
+                            pe="pm_ends")
+"""One gene per leg, seven values (:mod:`hga_jax.model.reversing`): 0 a tangent, 1-2 a
+free circle against the leg's first circle, 3-4 with it (a cusp), 5-6 the quarter
+turns leaving the start and reaching the goal; the goal's gene, 3 or more, starts the
+path backward. Fresh genes are straight a quarter of the time; the ends of the path
+are also moved whole (``end_mutation``)."""
+
 
 class ReedsShepp(car_model.CarModel):
     """The Reeds–Shepp car (module doc)."""
 
     name = "reeds-shepp"
     car = "reeds-shepp"
-    searched = False
     reverses = True
+    genes = (LEGS,)
     describe = ("the car that also drives backward, with cusps, and turns in free space "
                 "too; the full collision test only")
     words = "Reeds-Shepp car"
@@ -48,7 +59,9 @@ class ReedsShepp(car_model.CarModel):
 
     def search_arrays(self, scenario: Any, dtype: Any, collision: str,
                       with_legs: bool = False) -> Any:
-        raise NotImplementedError("the GA does not search Reeds-Shepp paths yet")
+        from .reeds_shepp_legs import search_arrays
+
+        return search_arrays(scenario, dtype, with_legs)
 
     def connect(self, p: Any, q: Any, rho: float) -> list[dict[str, Any]]:
         from . import reeds_shepp

@@ -69,27 +69,30 @@ class TurnTable(NamedTuple):
     usable: bool
 
 
-def usable(tb: TangentTable) -> bool:
-    """No two circles that can follow one another on a path share a centre."""
+def usable(tb: TangentTable, back: int | None = None) -> bool:
+    """No two circles that can follow one another on a path share a centre. ``back``:
+    the first of four more pose circles (start, start, goal, goal: a car that reverses,
+    :mod:`hga_jax.model.reversing`), or None."""
     c = tb.circles.shape[0]
     ids = np.arange(c)
     obstacle = np.asarray(tb.obstacle)
+    pose = ids if back is None else np.where(ids >= back, ids - back, ids)
     follows = ((ids[:, None] != ids[None, :])
                & ~((obstacle[:, None] == obstacle[None, :]) & (obstacle[:, None] >= 0))
-               & ~circle_ids.is_goal(ids)[:, None]  # nothing leaves a goal circle
-               & ~circle_ids.is_start(ids)[None, :])  # nothing arrives at a start circle
+               & ~circle_ids.is_goal(pose)[:, None]  # nothing leaves a goal circle
+               & ~circle_ids.is_start(pose)[None, :])  # nothing arrives at a start circle
     return not bool(np.any(np.asarray(tb.coincident) & follows))
 
 
 def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
-          collision: str, legs=None) -> TurnTable:
+          collision: str, legs=None, back: int | None = None) -> TurnTable:
     """The turn table of a scenario from its float64 tangent table (see module doc).
 
     ``collision``: ``"full"`` tests every arc against the obstacles' model circles;
     ``"paper"`` only against the field (the paper's criterion judges segments only).
     ``legs``: a float64 :class:`~hga_jax.model.free_legs.LegTable` (free turns, the
     full rule): the legs between two circles are its ``V`` variants instead of the
-    tangent alone.
+    tangent alone. ``back``: as :func:`usable`.
     """
     f8 = np.float64
     tol = g.tolerances(f8)
@@ -144,4 +147,4 @@ def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
                                  tol.length, collision).astype(f8)
         out[:, b, :, 0] = r[b] * swp + t_len[b][None, :]
         out[:, b, :, 1] = vio + t_vio[b][None, :]
-    return TurnTable(entries=out.reshape(-1, 2), usable=usable(tb))
+    return TurnTable(entries=out.reshape(-1, 2), usable=usable(tb, back))

@@ -46,6 +46,11 @@ def gap_of(length, feasible, optimum: float) -> np.ndarray:
     return np.where(feasible, rel, np.inf)
 
 
+def settings_dict(settings: GASettings) -> dict[str, Any]:
+    """The ``settings`` of the result files: every field, and the car of its model."""
+    return {**asdict(settings), "car": settings.model.car}
+
+
 @dataclass
 class RunsResult:
     """Everything a batch of runs produced (arrays have one row per run)."""
@@ -173,7 +178,7 @@ class RunsResult:
             "runs": [int(self.run_ids[0]), int(self.run_ids[-1])],
             "preset": self.preset,
             **({"plugins": list(self.plugins)} if self.plugins else {}),
-            "settings": asdict(self.settings),
+            "settings": settings_dict(self.settings),
             **({"budget": self.budget} if self.budget else {}),
             "best": {"run": self.best_run, **self.best.to_dict()},
             "optimum": optimum_dict(self.optimum),

@@ -83,9 +83,10 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
     settings = settings or settings_for(scenario)
+    validation.car(scenario, settings)
+    settings = settings.for_car(scenario.car)
     turns = settings.turns if turns is None else turns
     validation.turns(turns, settings.collision if exact else "full", "run_many")
-    validation.car(scenario, settings)
     budget_rule = settings.budget(scenario.n)
     settings = settings.for_obstacles(scenario.n)
     validation.run_range(seed, runs, first_run, chunk, "run_many")

@@ -5,8 +5,10 @@ Conventions (:mod:`hga_jax.model.free_legs`):
 - Leg genes are a 1-D ``int32`` array of length ``L = n + 2``, positioned like the
   labels (:mod:`hga_jax.search.label_ops`): the gene of a touched position picks the
   leg from its circle to the next touched one, ``0`` a straight tangent, ``1`` or
-  ``2`` a free circle of radius rho on one side or the other. The goal's gene and
-  the genes of untouched positions are carried but not read.
+  ``2`` a free circle of radius rho on one side or the other (a car that reverses
+  has ``3`` and ``4`` too, and reads the goal's gene as the start's gear:
+  :mod:`hga_jax.model.reversing`). The genes of untouched positions (and the goal's,
+  for the forward car) are carried but not read.
 - Every value is allowed at every position (a free leg that does not exist reads
   as straight), so crossover and mutation need no repair.
 - As elsewhere, operators work on ONE individual or ONE pair and jit and vmap.
@@ -24,7 +26,7 @@ from jax import Array
 from .label_ops import redraw_mask, two_point  # noqa: F401  (two_point: the crossover)
 from .permutation import int_from_words
 
-GENES = 3  # values 0, 1, 2
+GENES = 3  # values 0, 1, 2 (the forward car's; a model's gene module may have more)
 
 
 def genes_from_words(words: Array, weights: tuple[int, ...]) -> Array:
@@ -47,21 +49,25 @@ def legs_from_words(words: Array) -> Array:
     return genes_from_words(words, (2, 1, 1))
 
 
-def redraw_apply(legs: Array, mask: Array, choice: Array) -> Array:
-    """Change every masked gene to one of its two other values (``1 + choice`` steps
-    along the cycle ``0 -> 1 -> 2 -> 0``); unmasked genes are kept."""
-    new = (legs + 1 + choice.astype(legs.dtype)) % GENES
+def redraw_apply(legs: Array, mask: Array, choice: Array, values: int = GENES) -> Array:
+    """Change every masked gene to one of its ``values - 1`` other values (``1 + choice``
+    steps along the cycle ``0 -> 1 -> ... -> values - 1 -> 0``); unmasked genes are kept."""
+    new = (legs + 1 + choice.astype(legs.dtype)) % values
     return jnp.where(mask, new, legs)
 
 
-def redraw_from_words(words: Array, legs: Array, pm: float | Array) -> Array:
+def redraw_from_words(words: Array, legs: Array, pm: float | Array, values: int = GENES) -> Array:
     """:func:`redraw` of genes ``(..., L)`` from one given uint32 word per gene (the
-    labels' rule: the top 24 bits against ``pm``, the lowest bit the choice)."""
-    return redraw_apply(legs, *redraw_mask(words, pm))
+    labels' rule: the top 24 bits against ``pm``; the choice from the lowest 8 bits,
+    modulo ``values - 1``: the lowest bit for three values, the lowest two for five)."""
+    mask, _ = redraw_mask(words, pm)
+    choice = (words & 0xFF) % (values - 1)
+    return redraw_apply(legs, mask, choice, values)
 
 
-def redraw(key: Array, legs: Array, pm: float | Array) -> Array:
-    """Per-gene mutation: each gene, with probability ``pm``, takes one of its two other
-    values, uniformly."""
-    return redraw_from_words(jax.random.bits(key, legs.shape[-1:], dtype=jnp.uint32), legs, pm)
+def redraw(key: Array, legs: Array, pm: float | Array, values: int = GENES) -> Array:
+    """Per-gene mutation: each gene, with probability ``pm``, takes one of its
+    ``values - 1`` other values, uniformly."""
+    return redraw_from_words(jax.random.bits(key, legs.shape[-1:], dtype=jnp.uint32), legs,
+                             pm, values)
 

@@ -24,6 +24,10 @@ that depend on ``n`` (obstacles) and ``P`` (population) only:
 - ``leg_crossover``: ``fn(key, a, b) -> (a, b)``; leg genes (n + 2,) int32 in
   ``{0, 1, 2}`` (free turns only: :mod:`hga_jax.search.leg_ops`).
 - ``leg_mutation``: ``fn(key, legs, rate) -> legs``; ``rate`` is ``settings.pm_legs``.
+- ``end_mutation``: ``fn(key, labels, legs, values) -> (labels, legs)``, positional;
+  a reversing car's move on the ends of its path (:mod:`hga_jax.search.end_ops`),
+  applied with probability ``settings.pm_ends`` per child; ``values``: how many
+  values a leg gene takes. The name ``"none"`` (no move) comes first.
 
 How often an operator applies is the GA's business (``pc_*``, ``pm_upper``,
 ``pm_path``: one do-word per pair or individual), not the operator's.
@@ -53,7 +57,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator
 
 KINDS = ("selection", "perm_crossover", "perm_mutation", "label_crossover", "label_mutation",
-         "path_mutation", "leg_crossover", "leg_mutation")
+         "path_mutation", "leg_crossover", "leg_mutation", "end_mutation")
 OPTIONS = ("settings",)  # what register() accepts as keyword options
 
 
@@ -202,6 +206,8 @@ BUILTINS = (
     ("path_mutation", "guided", "guided", "guided", None, None),
     ("leg_crossover", "two_point", "leg_ops", "two_point", None, None),
     ("leg_mutation", "redraw", "leg_ops", "redraw", "redraw_from_words", lambda n, s: n + 2),
+    ("end_mutation", "none", "end_ops", "keep", None, None),
+    ("end_mutation", "redraw", "end_ops", "redraw", None, None),
 )
 """The built-in operators, in the order :func:`names` lists them; their modules (and
 JAX) are imported on first use of an operator, not to read their names."""

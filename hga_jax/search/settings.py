@@ -39,9 +39,11 @@ only): the model adds a module of leg genes, one per position (0 a straight tang
 the next touched circle, 1 or 2 a free circle of radius rho joining the two, on one
 side or the other: :mod:`hga_jax.model.free_legs`), crossed over by ``leg_crossover``
 with probability ``pc_legs`` per pair and mutated by ``leg_mutation`` with probability
-``pm_legs`` per gene; it rides with the labels' ``label_binding``. Under a model
-without genes of its own the leg settings do nothing and the random stream is the
-paper's.
+``pm_legs`` per gene; it rides with the labels' ``label_binding``. The Reeds–Shepp
+car (``"reeds-shepp"``) has leg genes of seven values (:mod:`hga_jax.model.reversing`)
+and moves on the ends of its path (``end_mutation``, with probability ``pm_ends`` per
+child: :mod:`hga_jax.search.end_ops`). Under a model without genes of its own the leg
+and end settings do nothing and the random stream is the paper's.
 
 ``penalty_weight`` scales the paper's penalty per violation
 ``2*pi*R`` during the search (1 = the paper); reported lengths, feasibility and
@@ -95,12 +97,21 @@ class GASettings:
     leg_mutation: str = "redraw"
     pc_legs: float = 0.4
     pm_legs: float = 0.02
+    end_mutation: str = "redraw"
+    pm_ends: float = 0.2
 
     @property
     def model(self) -> car_model.CarModel:
         """The car model the GA searches (``turns``): what it adds to a chromosome, its
         device arrays, its exact optimum (:mod:`hga_jax.model.car_model`)."""
         return car_model.get(self.turns)
+
+    def for_car(self, car: str) -> "GASettings":
+        """These settings searching the model of ``car`` (``turns`` as it is for the
+        forward car; the Reeds–Shepp car's own model otherwise:
+        :func:`hga_jax.model.car_model.resolve`)."""
+        turns = car_model.resolve(self.turns, car)
+        return self if turns == self.turns else dataclasses.replace(self, turns=turns)
 
     def for_obstacles(self, n: int) -> GASettings:
         """The settings of a run on ``n`` obstacles: ``generations`` raised by
@@ -167,7 +178,7 @@ class GASettings:
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
-                    "pc_legs", "pm_legs"):
+                    "pc_legs", "pm_legs", "pm_ends"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")

@@ -85,6 +85,8 @@ def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
     for genes in _genes(settings):
         parts += ((f"cross_{genes.name}", 3),
                   (f"mutate_{genes.name}", _word_rows(genes.mutation, n, settings)))
+        if genes.ends and getattr(settings, genes.ends) != "none":
+            parts += (("mutate_ends", 3),)
     out, row = {}, 0
     for name, rows in parts:
         out[name], row = (row, rows), row + rows
@@ -187,6 +189,8 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         idx = sel.fn(_keys(rows("select")[:, :1])[0], old.fitness, **sel.options(settings))
     perm, labels = old.perm[idx], old.labels[idx]
     genes = None if old.legs is None else _vary_genes(rows, old.legs[idx], settings)
+    if genes is not None and "mutate_ends" in at:
+        labels, genes = _ends(rows("mutate_ends"), perm, labels, genes, settings)
     if n >= 2:
         perm = _crossover(rows("cross_upper"), registry.get("perm_crossover", settings.perm_crossover),
                           settings.pc_upper, perm)
@@ -211,6 +215,19 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
     return perm, labels, genes
 
 
+def _ends(rows, perm, labels, genes, settings: GASettings):
+    """The end move of a reversing car's model on each child, with its rate (rows: the
+    do-word and two key words per child); labels and genes in the population's binding."""
+    (module,) = _genes(settings)
+    move = registry.get("end_mutation", getattr(settings, module.ends))
+    values = len(module.weights)
+    pos, legs = positional(perm, labels, settings), positional(perm, genes, settings)
+    ml, mg = jax.vmap(lambda k, l, g: move(k, l, g, values))(_keys(rows[1:]), pos, legs)
+    do = (unit(rows[0]) < getattr(settings, module.pe))[:, None]
+    return (jnp.where(do, bound(perm, ml, settings), labels),
+            jnp.where(do, bound(perm, mg, settings), genes))
+
+
 def _vary_genes(rows, genes, settings: GASettings):
     """The added genes of the selected parents (the car model's gene module: leg genes
     under free turns), crossed over and mutated by the operators and rates it names."""
@@ -219,6 +236,6 @@ def _vary_genes(rows, genes, settings: GASettings):
     cross = registry.get(module.crossover, getattr(settings, module.crossover))
     genes = _crossover(rows(f"cross_{name}"), cross, pc, genes)
     mut = registry.entry(module.mutation, getattr(settings, module.mutation))
-    if mut.from_words is not None:
-        return mut.from_words(rows(f"mutate_{name}").T, genes, pm)
+    if mut.from_words is not None:  # a built-in: told how many values the genes take
+        return mut.from_words(rows(f"mutate_{name}").T, genes, pm, values=len(module.weights))
     return jax.vmap(lambda k, g: mut.fn(k, g, pm))(_keys(rows(f"mutate_{name}")), genes)

@@ -1,0 +1,44 @@
+"""Moves on the ends of a reversing car's path: how it leaves the start, how it
+reaches the goal.
+
+A Reeds–Shepp chromosome (:mod:`hga_jax.model.reversing`) decides its first leg by
+three genes at once: the start's label (which turning circle), the goal position's
+leg gene (the gear the car starts in) and the start's leg gene (a tangent, a free
+circle, a quarter turn); its last leg by two: the goal's label and the leg gene of
+the last touched position. A parking manoeuvre often needs all of them changed
+together (back out on the other circle into a quarter turn): one gene at a time,
+every step in between is a longer path, and the search stays where it is. An end
+move redraws one end's genes together, uniformly.
+
+Operators of the ``end_mutation`` kind (:mod:`hga_jax.search.registry`) take a key,
+ONE individual's positional labels and leg genes (``(n + 2,)`` int32 each) and the
+number of values a leg gene takes (``values``), and return both; they jit and vmap.
+How often a move applies is the GA's business (``pm_ends`` per child).
+"""
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+from jax import Array
+
+
+def keep(key: Array, labels: Array, legs: Array, values: int) -> tuple[Array, Array]:
+    """No move (``end_mutation = "none"``)."""
+    return labels, legs
+
+
+def redraw(key: Array, labels: Array, legs: Array, values: int) -> tuple[Array, Array]:
+    """Redraw one end, either with probability 1/2: the start's label, its leg gene and
+    the gear gene (the goal position's), or the goal's label and the leg gene of the
+    last touched position before it; every value uniform."""
+    w = jax.random.bits(key, (4,), dtype=jnp.uint32)
+    last = labels.shape[0] - 1
+    label = jnp.where((w[1] & 1) == 1, 1, -1).astype(labels.dtype)
+    gene = (w[2] % values).astype(legs.dtype)
+    gear = (w[3] % values).astype(legs.dtype)
+    touched = jnp.arange(last) * (labels[:last] != 0)  # the last touched before the goal
+    before = jnp.max(touched)
+    start = (labels.at[0].set(label), legs.at[0].set(gene).at[last].set(gear))
+    goal = (labels.at[last].set(label), legs.at[before].set(gene))
+    at_start = (w[0] & 1) == 0
+    return (jnp.where(at_start, start[0], goal[0]), jnp.where(at_start, start[1], goal[1]))
