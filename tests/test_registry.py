@@ -110,10 +110,11 @@ def test_every_registered_operator_gives_valid_output(kind, name, legs):
         assert g2.shape == g.shape and ((g2 >= 0) & (g2 < 7)).all()
         if name == "none":
             assert np.array_equal(l2, la) and np.array_equal(g2, g)
-        else:  # one end redrawn: the start's label and genes 0 and N + 1, or the goal's
+        else:  # one end redrawn (at most one middle gene changes), or the direct path
             la_, l2_ = np.asarray(la), np.asarray(l2)
             same = (l2_ == la_) & (g2 == np.asarray(g))
-            assert same[:, 1:-1].sum() >= same[:, 1:-1].size - BATCH  # one middle gene at most
+            direct = (l2_[:, 1:-1] == 0).all(axis=1)
+            assert (direct | ((~same[:, 1:-1]).sum(axis=1) <= 1)).all()
             assert not same.all()
     else:
         p2, l2 = jax.jit(jax.vmap(lambda k, p, l: fn(k, p, l, legs)))(keys, a, la)

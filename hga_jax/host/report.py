@@ -94,7 +94,9 @@ def run_summary(res: RunsResult) -> str:
         + (f" ({res.budget['rule']})" if res.budget else "") + f", precision {st.precision}",
         f"operators{f' (preset {res.preset})' if res.preset else ''}: {operators(st)}",
         f"best length {s['best_length']:.6f} m ({'feasible' if s['best_feasible'] else 'INFEASIBLE'}"
-        f", touches {touches(res.best.touched)}), found in {s['runs_found_best']:,} of "
+        f", touches {touches(res.best.touched)}"
+        + (f", {count(res.best.cusps, 'cusp')}" if st.model.reverses else "")
+        + f"), found in {s['runs_found_best']:,} of "
         f"{count(runs, 'run')}, median generation first reached {med:g}",
     ]
     if "optimum_length" in s:

@@ -37,13 +37,16 @@ from .tangents import TangentTable
 
 class Legs(NamedTuple):
     """``blockers`` (C, C, n), ``blocked`` and ``bad`` (C, C) bool, ``length`` (C, C)
-    metres, ``penalty`` () metres (see module doc)."""
+    metres, ``penalty`` () metres (see module doc). ``ends``: not None where the path's
+    ends are not the path moves' (a reversing car's: the start's and goal's labels go
+    with their gears, :mod:`hga_jax.search.end_ops`)."""
 
     blockers: Any
     blocked: Any
     length: Any = None
     bad: Any = None
     penalty: Any = None
+    ends: Any = None
 
 
 def build(tb: TangentTable, centres, model_radii, penalty: float = 0.0) -> Legs:

@@ -128,6 +128,12 @@ class Path:
     def feasible(self) -> bool:
         return self.violations == 0
 
+    @property
+    def cusps(self) -> int:
+        """Where the gear changes between two pieces (a car that reverses)."""
+        return sum(a.get("reverse", False) != b.get("reverse", False)
+                   for a, b in zip(self.segments, self.segments[1:]))
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "length": self.length,

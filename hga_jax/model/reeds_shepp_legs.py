@@ -189,7 +189,8 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
     table over :func:`circles`, the leg table (``free_legs``) and its turn table
     (``turns_free``; None where too large or centres coincide: the fitness then decodes
     leg by leg), and with ``with_legs`` the legs the path operators read
-    (:func:`hga_jax.model.legs.free_aware` of gene 0)."""
+    (:func:`hga_jax.model.legs.free_aware` of gene 0; the path's ends left to the end
+    move)."""
     dtype = np.dtype(dtype)
     c = ids.count(sc.n)
 
@@ -210,7 +211,7 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
             lg = leg_info.free_aware(leg_info.build(tangent_table(sc), s64.centres,
                                                     s64.model_radii, sc.delta), leg_table(sc))
             return lg._replace(length=np.asarray(lg.length, dtype),
-                               penalty=np.asarray(lg.penalty, dtype))
+                               penalty=np.asarray(lg.penalty, dtype), ends=np.asarray(True))
 
         sa = sa._replace(legs=sc.cached(("rs_legs", dtype.name), aware))
     return sa

@@ -11,6 +11,7 @@ every process (:mod:`hga_jax.running.distributed`).
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
 import sys
 import time
@@ -85,6 +86,8 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     settings = settings or settings_for(scenario)
     validation.car(scenario, settings)
     settings = settings.for_car(scenario.car)
+    if settings.model.car != scenario.car:  # turns named another car's model: that car's run
+        scenario = dataclasses.replace(scenario, car=settings.model.car)
     turns = settings.turns if turns is None else turns
     validation.turns(turns, settings.collision if exact else "full", "run_many")
     budget_rule = settings.budget(scenario.n)

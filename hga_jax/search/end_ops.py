@@ -8,7 +8,12 @@ circle, a quarter turn); its last leg by two: the goal's label and the leg gene 
 the last touched position. A parking manoeuvre often needs all of them changed
 together (back out on the other circle into a quarter turn): one gene at a time,
 every step in between is a longer path, and the search stays where it is. An end
-move redraws one end's genes together, uniformly.
+move redraws one end's genes together, uniformly, or both ends of the direct path
+(no obstacle touched), the shape of most parking manoeuvres. On development scenes
+of the parking-like families (9 obstacles, 24 scenes, 50 runs each) the recommended
+preset hit the optimum in 83 % of runs without end moves and 93 % with them
+(``pm_ends`` 0.5, the move applied after every other: before the path move, which
+judges the ends as the forward car's, it undid them).
 
 Operators of the ``end_mutation`` kind (:mod:`hga_jax.search.registry`) take a key,
 ONE individual's positional labels and leg genes (``(n + 2,)`` int32 each) and the
@@ -28,17 +33,21 @@ def keep(key: Array, labels: Array, legs: Array, values: int) -> tuple[Array, Ar
 
 
 def redraw(key: Array, labels: Array, legs: Array, values: int) -> tuple[Array, Array]:
-    """Redraw one end, either with probability 1/2: the start's label, its leg gene and
-    the gear gene (the goal position's), or the goal's label and the leg gene of the
-    last touched position before it; every value uniform."""
-    w = jax.random.bits(key, (4,), dtype=jnp.uint32)
+    """Redraw one end (the start's label, its leg gene and the gear gene, the goal
+    position's; or the goal's label and the leg gene of the last touched position
+    before it), 3/8 of the time each, or (1/4) both ends of the direct path: every
+    obstacle untouched. Every value uniform."""
+    w = jax.random.bits(key, (6,), dtype=jnp.uint32)
     last = labels.shape[0] - 1
-    label = jnp.where((w[1] & 1) == 1, 1, -1).astype(labels.dtype)
+    flip = lambda word: jnp.where((word & 1) == 1, 1, -1).astype(labels.dtype)  # noqa: E731
     gene = (w[2] % values).astype(legs.dtype)
     gear = (w[3] % values).astype(legs.dtype)
     touched = jnp.arange(last) * (labels[:last] != 0)  # the last touched before the goal
     before = jnp.max(touched)
-    start = (labels.at[0].set(label), legs.at[0].set(gene).at[last].set(gear))
-    goal = (labels.at[last].set(label), legs.at[before].set(gene))
-    at_start = (w[0] & 1) == 0
-    return (jnp.where(at_start, start[0], goal[0]), jnp.where(at_start, start[1], goal[1]))
+    start = (labels.at[0].set(flip(w[1])), legs.at[0].set(gene).at[last].set(gear))
+    goal = (labels.at[last].set(flip(w[1])), legs.at[before].set(gene))
+    middle = jnp.zeros_like(labels).at[0].set(flip(w[1])).at[last].set(flip(w[4]))
+    direct = (middle, legs.at[0].set(gene).at[last].set(gear))
+    case = w[0] % 8
+    pick = lambda a, b, c: jnp.where(case < 3, a, jnp.where(case < 6, b, c))  # noqa: E731
+    return (pick(start[0], goal[0], direct[0]), pick(start[1], goal[1], direct[1]))

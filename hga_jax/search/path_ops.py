@@ -6,7 +6,8 @@ circle, the obstacles with a non-zero label in permutation order, the goal
 circle), the way TSP moves act on a tour:
 
 - ``flip``: reverse the turning direction of one touched circle (start and goal
-  included);
+  included, but for a reversing car, whose ends are moved with their gears:
+  :mod:`hga_jax.search.end_ops`);
 - ``drop``: stop touching one touched obstacle;
 - ``insert``: touch one untouched obstacle, in a random direction, at a random
   place of the sequence;
@@ -82,8 +83,12 @@ def keep(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Arra
 
 
 def flip(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
-    """Reverse the label of one touched circle (start and goal included)."""
-    k, _ = _choose(labels != 0, _words(key, 1)[0])
+    """Reverse the label of one touched circle (start and goal included, unless the
+    legs hold the ends: a reversing car's ends are the end move's)."""
+    movable = labels != 0
+    if legs is not None and getattr(legs, "ends", None) is not None:
+        movable = movable.at[0].set(False).at[-1].set(False)
+    k, _ = _choose(movable, _words(key, 1)[0])
     pos = jnp.arange(labels.shape[-1], dtype=jnp.int32)
     return perm, jnp.where(pos == k, -labels, labels)
 

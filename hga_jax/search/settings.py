@@ -98,7 +98,7 @@ class GASettings:
     pc_legs: float = 0.4
     pm_legs: float = 0.02
     end_mutation: str = "redraw"
-    pm_ends: float = 0.2
+    pm_ends: float = 0.5
 
     @property
     def model(self) -> car_model.CarModel:

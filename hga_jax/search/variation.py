@@ -189,8 +189,6 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         idx = sel.fn(_keys(rows("select")[:, :1])[0], old.fitness, **sel.options(settings))
     perm, labels = old.perm[idx], old.labels[idx]
     genes = None if old.legs is None else _vary_genes(rows, old.legs[idx], settings)
-    if genes is not None and "mutate_ends" in at:
-        labels, genes = _ends(rows("mutate_ends"), perm, labels, genes, settings)
     if n >= 2:
         perm = _crossover(rows("cross_upper"), registry.get("perm_crossover", settings.perm_crossover),
                           settings.pc_upper, perm)
@@ -212,6 +210,8 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)
         do = (unit(m[0]) < settings.pm_path)[:, None]
         perm, labels = jnp.where(do, mp, perm), jnp.where(do, bound(mp, ml, settings), labels)
+    if genes is not None and "mutate_ends" in at:  # last: no other move undoes it
+        labels, genes = _ends(rows("mutate_ends"), perm, labels, genes, settings)
     return perm, labels, genes
 
 
