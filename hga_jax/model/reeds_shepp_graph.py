@@ -343,8 +343,34 @@ def shortest(sc: Scenario, bound: float = math.inf):
     if not edges:
         return math.inf, [], [], 0
     segs, touched = _walk(gr, parts, edges, back=ids.count(sc.n))
+    segs = tidy(segs)
     cusps = sum(1 for s, t in zip(segs, segs[1:]) if s.get("reverse") != t.get("reverse"))
     return float(length), segs, touched, cusps
+
+
+TINY = 1e-12  # m: a piece this short is rounding (two cusps at one point, say)
+
+
+def tidy(segs: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """``segs`` without pieces shorter than :data:`TINY` and with arcs that go on along
+    one circle in one gear and sense joined: the same path, its cusps where it turns."""
+    out: list[dict[str, Any]] = []
+    for seg in segs:
+        if seg["type"] == "arc":
+            if seg["radius"] * abs(seg["sweep"]) <= TINY:
+                continue
+        elif math.hypot(seg["end"][0] - seg["start"][0], seg["end"][1] - seg["start"][1]) <= TINY:
+            continue
+        last = out[-1] if out else None
+        if (last is not None and seg["type"] == last["type"] == "arc"
+                and last["center"] == seg["center"] and last["radius"] == seg["radius"]
+                and bool(last.get("reverse")) == bool(seg.get("reverse"))
+                and bool(last.get("free")) == bool(seg.get("free"))
+                and (last["sweep"] > 0) == (seg["sweep"] > 0)):
+            last["sweep"] += seg["sweep"]
+            continue
+        out.append(dict(seg))
+    return out
 
 
 def _walk(gr: Graph, parts: Pieces, edges: list[int], back: int):

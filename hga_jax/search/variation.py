@@ -203,27 +203,33 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
     else:
         labels = jax.vmap(lambda k, l: mut.fn(k, l, settings.pm_lower))(
             _keys(rows("mutate_lower")), labels)
+    ends = None
+    if genes is not None and "mutate_ends" in at:
+        (module,) = _genes(settings)
+        ends = (unit(rows("mutate_ends")[0]) < getattr(settings, module.pe))[:, None]
     if settings.path_mutation != "none" and n >= 1:
         m, legs = rows("mutate_path"), _legs(sa, settings)
         move = registry.get("path_mutation", settings.path_mutation)
         pos = positional(perm, labels, settings)
         mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)
         do = (unit(m[0]) < settings.pm_path)[:, None]
+        if ends is not None:  # a child moved at its ends gets no path move
+            do = do & ~ends
         perm, labels = jnp.where(do, mp, perm), jnp.where(do, bound(mp, ml, settings), labels)
-    if genes is not None and "mutate_ends" in at:  # last: no other move undoes it
-        labels, genes = _ends(rows("mutate_ends"), perm, labels, genes, settings)
+    if ends is not None:
+        labels, genes = _ends(rows("mutate_ends"), perm, labels, genes, settings, ends)
     return perm, labels, genes
 
 
-def _ends(rows, perm, labels, genes, settings: GASettings):
-    """The end move of a reversing car's model on each child, with its rate (rows: the
-    do-word and two key words per child); labels and genes in the population's binding."""
+def _ends(rows, perm, labels, genes, settings: GASettings, do):
+    """The end move of a reversing car's model on the children where ``do`` (P, 1) says
+    (rows: the do-word, drawn against its rate, and two key words per child); labels
+    and genes in the population's binding."""
     (module,) = _genes(settings)
     move = registry.get("end_mutation", getattr(settings, module.ends))
     values = len(module.weights)
     pos, legs = positional(perm, labels, settings), positional(perm, genes, settings)
     ml, mg = jax.vmap(lambda k, l, g: move(k, l, g, values))(_keys(rows[1:]), pos, legs)
-    do = (unit(rows[0]) < getattr(settings, module.pe))[:, None]
     return (jnp.where(do, bound(perm, ml, settings), labels),
             jnp.where(do, bound(perm, mg, settings), genes))
 

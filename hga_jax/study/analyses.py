@@ -9,6 +9,9 @@
   segments that start inside a model circle).
 - ``scaling``: per obstacle count, hit rate, gap, GA time per run and exact solver
   time.
+- ``reversing``: per family and obstacle count, what backing up saves (the
+  Reeds–Shepp optimum against the forward car's) and the GA's hit rate, worst scene
+  too (:mod:`hga_jax.study.reversing`).
 """
 from __future__ import annotations
 
@@ -259,4 +262,7 @@ def _scaling_markdown(out: list[dict]) -> str:
     return markdown(pd.DataFrame(rows)) + "\n"
 
 
-ANALYSES: dict[str, Any] = {"paper": paper, "penalty": penalty, "scaling": scaling}
+from .reversing import reversing  # noqa: E402  (its own module: the Reeds-Shepp car's)
+
+ANALYSES: dict[str, Any] = {"paper": paper, "penalty": penalty, "scaling": scaling,
+                            "reversing": reversing}

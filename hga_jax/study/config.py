@@ -7,11 +7,12 @@ A study file holds (paths are relative to the file)::
     runs = 1000                   # runs per cell (one configuration on one scene)
     scenarios = ["../scenarios/robocup_paper.toml"]   # optional scene files
     plugins = ["my_operators.py"] # optional: Python files imported first
-    analyses = ["paper"]          # optional extra reports: paper, penalty, scaling
-    yardstick = "tight-rope"      # the optimum the gaps are taken to: tight-rope or free
+    analyses = ["paper"]          # optional extra reports: paper, penalty, scaling, reversing
+    yardstick = "tight-rope"      # the optimum the gaps are taken to: a car model's name
     [ga]                          # settings shared by every configuration
     [[families]]                  # optional generated scenes (see scenes.py)
     name = "clutter"; kind = "clutter"; obstacles = [5, 9, 15]; scenes = 10; seed = 1
+    car = "reeds-shepp"           # optional: the scenes' car (default: the generator's)
     cpu_devices = 1               # optional: JAX CPU devices (1: every solver on one core)
     [[configs]]                   # each table is a grid: the product of its lists
     perm_crossover = ["cx", "pmx", "ox1"]
@@ -55,14 +56,14 @@ from hga_jax.search.settings import PAPER, PRESETS, GASettings
 
 TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses", "ga",
        "families", "configs", "quick", "yardstick", "cpu_devices"}
-FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density"}
+FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density", "car"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
 KINDS = ("clutter", "obstructed", "clusters", "loops", "cluster_loops", "behind", "slot",
          "wall")
 """Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters`, for free
 turns :mod:`~hga_jax.study.loops` and, for the Reeds–Shepp car, the parking-like
 :mod:`~hga_jax.study.parking`."""
-ANALYSES = ("paper", "penalty", "scaling")
+ANALYSES = ("paper", "penalty", "scaling", "reversing")
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,7 @@ class Family:
     scenes: int
     seed: int
     density: float | None = None  # obstacles per m^2 (field grows with n); None: RoboCup field
+    car: str | None = None  # the scenes' [robot] car; None: the generator's (dubins but parking)
 
 
 SOLVERS = ("hga", "random", "exact", "deap", "ompl")
@@ -182,9 +184,13 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
                                              "wall"):
         raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (its fields "
                    "are fixed or drawn per scene); remove it")
+    car = t.get("car")
+    if car is not None and car not in car_model.cars():
+        raise _err(source, f"{where}.car", f"must be one of {', '.join(car_model.cars())}, "
+                   f"got {car!r}")
     return Family(t["name"], t["kind"], obs, scenes,
                   _int(t.get("seed", 0), source, f"{where}.seed", *validation.SEED),
-                  None if density is None else float(density))
+                  None if density is None else float(density), car)
 
 
 def _grid(t: Any, i: int, source: str, base, key: str) -> list[Config]:

@@ -27,7 +27,7 @@ from hga_jax.running.runner import joined, run_many
 from . import anytime
 from .config import Config, Study
 from .scenes import Scene
-from .store import TARGETS, cell_document, tight_rope_optimum
+from .store import TARGETS, cell_document, optimum_details, tight_rope_optimum
 
 
 def run_cell(study: Study, config: Config, scene: Scene) -> dict[str, Any]:
@@ -110,6 +110,7 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
         "seed": study.seed, "runs": n, "optimum": opt,
         "yardstick": optimum.turns if optimum is not None else None,
         "tight_rope_optimum": tight_rope_optimum(optimum, opt),
+        "optimum_details": optimum_details(optimum),
         "optimum_touched": len(optimum.touched) if optimum is not None else None,
         "exact_s": optimum.seconds if optimum is not None else None,
         "compile_s": 0.0, "search_s": float(sum(r["time_s"] for r in rows)), "finish_s": 0.0,

@@ -60,6 +60,14 @@ def _identity(settings) -> dict[str, Any]:
     return {k: v for k, v in values.items() if k not in unread}
 
 
+def optimum_details(optimum: Any) -> dict[str, Any]:
+    """What a model's optimum records beside its length (the optima of the models it
+    holds, its cusps: :meth:`~hga_jax.model.car_model.CarModel.extras`); {} without one."""
+    if optimum is None or not optimum.feasible:
+        return {}
+    return car_model.get(optimum.turns).extras(optimum)
+
+
 def tight_rope_optimum(optimum: Any, length: float | None) -> float | None:
     """What a cell records as the tight-rope optimum: the one a model's optimum reports
     beside its own (free turns), else the optimum's ``length`` itself."""
@@ -151,6 +159,7 @@ def cell_document(res: RunsResult, config: Config, scene: Scene, violations_full
         "seed": res.seed, "runs": len(res.length), "optimum": opt,
         "yardstick": o.turns if o is not None else None,
         "tight_rope_optimum": tight_rope_optimum(o, opt),
+        "optimum_details": optimum_details(o),
         "optimum_touched": len(o.touched) if o is not None else None,
         "exact_s": o.seconds if o is not None else None,
         "compile_s": res.compile_s, "search_s": res.search_s, "finish_s": res.finish_s,
