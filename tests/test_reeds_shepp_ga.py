@@ -210,3 +210,37 @@ def test_the_end_move_redraws_an_end_or_the_direct_path():
     for part in (start, goal, direct):
         assert 0.15 < part.mean() < 0.6
     assert (lg[direct][:, 1:-1] == legs[1:-1]).all()  # genes stay where labels are cleared
+
+
+def test_run_plot_and_export_a_reeds_shepp_result(tmp_path, capsys):
+    """From the command line: a run's summary counts the best path's cusps, its runs
+    redraw and export with their gears (the genes take seven values)."""
+    import json
+
+    import tomli_w
+
+    from hga_jax.host.cli import main
+
+    d = scenario_to_dict(_parking("behind", 0))
+    d["ga"] = {"population": 20, "generations": 6}
+    path = tmp_path / "behind.toml"
+    path.write_text(tomli_w.dumps(d))
+    out = tmp_path / "r"
+    assert main(["run", str(path), "--runs", "4", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "cusp" in text.splitlines()[2] and "Reeds-Shepp optimum" in text
+    doc = json.loads((out / "result.json").read_text())
+    assert doc["settings"]["car"] == "reeds-shepp"
+    legs = [r["legs"] for r in doc["per_run"]]
+    assert all(len(g) == 11 for g in legs)
+    k = next(r["run"] for r in doc["per_run"] if max(r["legs"]) > 2) if any(
+        max(g) > 2 for g in legs) else 0
+    assert main(["plot", str(out / "result.json"), "--run", str(k)]) == 0
+    assert main(["export", str(out / "result.json"), "--run", str(k)]) == 0
+    capsys.readouterr()
+    poses = json.loads((out / f"poses_run{k}.json").read_text())
+    gear = poses["columns"].index("gear")
+    reverse = any(seg.get("reverse") for seg in doc["best"]["segments"]) if k == doc["best"][
+        "run"] else None
+    gears = {row[gear] for row in poses["poses"]}
+    assert gears <= {1.0, -1.0} and (reverse is None or (-1.0 in gears) == reverse)

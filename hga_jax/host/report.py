@@ -400,7 +400,7 @@ def result_path(path: str, data: dict[str, Any], sc: Scenario,
     """
     if run is None:
         return data["best"]
-    from hga_jax.model.path import evaluate_path, from_chromosome, legs_from_list
+    from hga_jax.model.path import evaluate_path, from_chromosome, gene_values, legs_from_list
 
     rows = [r for r in data["per_run"] if r.get("run") == run]
     if not rows:
@@ -410,7 +410,8 @@ def result_path(path: str, data: dict[str, Any], sc: Scenario,
     collision = data["settings"].get("collision", "full")
     p = evaluate_path(sc, *from_chromosome(rows[0]["upper"], rows[0]["lower"], sc.n,
                                            f"{path}: per_run"), collision,
-                      legs_from_list(rows[0].get("legs"), sc.n, f"{path}: per_run"))
+                      legs_from_list(rows[0].get("legs"), sc.n, f"{path}: per_run",
+                                     gene_values(sc)))
     return {**p.to_dict(), "run": run}
 
 

@@ -168,16 +168,26 @@ def from_chromosome(upper: Sequence[int], lower: Sequence[int], n: int,
     return np.asarray(upper[1:-1], np.int32) - 1, np.asarray(lower, np.int32)
 
 
-def legs_from_list(legs: Sequence[int] | None, n: int,
-                   source: str = "<chromosome>") -> np.ndarray | None:
-    """Internal leg genes from a chromosome's ``legs`` list (free turns), checked; None
-    stays None."""
+def legs_from_list(legs: Sequence[int] | None, n: int, source: str = "<chromosome>",
+                   values: int = free_legs.VARIANTS) -> np.ndarray | None:
+    """Internal leg genes from a chromosome's ``legs`` list, checked (``values``: how
+    many a gene takes, :func:`gene_values`); None stays None."""
     if legs is None:
         return None
-    values = [int(v) for v in legs]
-    if len(values) != n + 2 or any(v not in (0, 1, 2) for v in values):
-        raise ConfigError(f"{source}: legs: must be {n + 2} leg genes in {{0, 1, 2}}")
-    return np.asarray(values, np.int32)
+    out = [int(v) for v in legs]
+    if len(out) != n + 2 or any(not 0 <= v < values for v in out):
+        raise ConfigError(f"{source}: legs: must be {n + 2} leg genes in "
+                          f"{{{', '.join(map(str, range(values)))}}}")
+    return np.asarray(out, np.int32)
+
+
+def gene_values(scenario: Scenario) -> int:
+    """How many values a leg gene of the scenario's car takes (3 for the forward car's
+    free turns)."""
+    from . import car_model
+
+    genes = car_model.of_car(scenario.car).genes
+    return len(genes[0].weights) if genes else free_legs.VARIANTS
 
 
 def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int],

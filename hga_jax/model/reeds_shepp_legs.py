@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from . import circle_ids as ids
-from . import free_legs, tangents
+from . import free_legs, reversing, tangents
 from . import legs as leg_info
 from . import turns as turn_tables
 from .scenario import Scenario, ScenarioArrays
@@ -129,7 +129,7 @@ def quarters(sc: Scenario):
     cost = length + r[a] * on
     S = np.where(q.leaves, q.a, q.b)
     T = np.where(q.leaves, q.b, q.a)
-    gene = np.where(q.leaves, 5, 6)
+    gene = np.where(q.leaves, reversing.LEAVING, reversing.ARRIVING)
     order = np.lexsort((cost, violations, T, S, gene))[::-1]  # the best of a pair last
     p1 = np.where(q.leaves, q.px, q.t1x), np.where(q.leaves, q.py, q.t1y)
     p2 = np.where(q.leaves, q.t2x, q.px), np.where(q.leaves, q.t2y, q.py)
@@ -170,8 +170,8 @@ def leg_table(sc: Scenario, dtype: Any = np.float64) -> free_legs.LegTable:
         v = np.arange(VARIANTS)[:, None, None]
         pose = pose_of(np.arange(sg.size), c)
         start, goal = (pose >= 0) & (pose < 2), pose >= 2
-        odd = (((v >= 1) & (v < 5) & (sg[:, None] != sg[None, :])[None])
-               | ((v == 5) & start[None, :, None]) | ((v == 6) & goal[None, None, :]))
+        odd = reversing.odd_leg(v, sg[:, None][None], sg[None, :][None],
+                                start[None, :, None], goal[None, None, :])
         return lt._replace(violations=lt.violations + (odd & ~have).astype(dtype))
 
     return sc.cached(("rs_leg_table", dtype.name), build)

@@ -24,7 +24,7 @@ import pandas as pd
 
 from hga_jax.host.config import load_scenario
 from hga_jax.model.fitness import fitness_of
-from hga_jax.model.path import evaluate_path, from_chromosome, legs_from_list
+from hga_jax.model.path import evaluate_path, from_chromosome, gene_values, legs_from_list
 from hga_jax.host.plots import headroom, plot_path
 from hga_jax.host.output import write_file
 from . import stats
@@ -54,7 +54,7 @@ def paper(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     files = []
     best = doc["best"]
     path = evaluate_path(sc, *from_chromosome(best["upper"], best["lower"], sc.n),
-                         legs=legs_from_list(best.get("legs"), sc.n))
+                         legs=legs_from_list(best.get("legs"), sc.n, values=gene_values(sc)))
     fig = plot_path(sc, path.segments, touched=path.touched, title=(
         f"{sc.name}: best of {doc['runs']} runs, {path.length:.4f} m "
         f"(optimum {doc['optimum']:.4f} m)"))
