@@ -207,7 +207,7 @@ BUILTINS = (
     ("leg_crossover", "two_point", "leg_ops", "two_point", None, None),
     ("leg_mutation", "redraw", "leg_ops", "redraw", "redraw_from_words", lambda n, s: n + 2),
     ("end_mutation", "none", "end_ops", "keep", None, None),
-    ("end_mutation", "redraw", "end_ops", "redraw", None, None),
+    ("end_mutation", "redraw", "end_ops", "redraw", "redraw_from_words", lambda n, s: 2),
 )
 """The built-in operators, in the order :func:`names` lists them; their modules (and
 JAX) are imported on first use of an operator, not to read their names."""

@@ -226,10 +226,13 @@ def _ends(rows, perm, labels, genes, settings: GASettings, do):
     (rows: the do-word, drawn against its rate, and two key words per child); labels
     and genes in the population's binding."""
     (module,) = _genes(settings)
-    move = registry.get("end_mutation", getattr(settings, module.ends))
+    move = registry.entry("end_mutation", getattr(settings, module.ends))
     values = len(module.weights)
     pos, legs = positional(perm, labels, settings), positional(perm, genes, settings)
-    ml, mg = jax.vmap(lambda k, l, g: move(k, l, g, values))(_keys(rows[1:]), pos, legs)
+    if move.from_words is not None:  # a built-in reads the two words itself
+        ml, mg = move.from_words(rows[1], rows[2], pos, legs, values)
+    else:
+        ml, mg = jax.vmap(lambda k, l, g: move.fn(k, l, g, values))(_keys(rows[1:]), pos, legs)
     return (jnp.where(do, bound(perm, ml, settings), labels),
             jnp.where(do, bound(perm, mg, settings), genes))
 
