@@ -178,7 +178,7 @@ def leg_table(sc: Scenario, dtype: Any = np.float64) -> free_legs.LegTable:
 
 
 def fits(n: int) -> bool:
-    """Whether a turn table is built for ``n`` obstacles (about 38 at most)."""
+    """Whether a turn table is built for ``n`` obstacles (30 at most)."""
     c = ids.count(n) + ids.POSES
     return (VARIANTS * c + 1) * c * (VARIANTS * c + 1) <= turn_tables.MAX_ENTRIES
 

@@ -31,8 +31,8 @@ LEGS = car_model.GeneModule(name="legs", weights=(6, 1, 1, 1, 1, 1, 1),
 free circle against the leg's first circle, 3-4 with it (a cusp), 5-6 the quarter
 turns leaving the start and reaching the goal; the goal's gene, 3 or more, starts the
 path backward. Fresh genes are straight half the time (so most fresh paths start
-forward: on development scenes 77 % of runs hit on obstructed ones driven by this car,
-95 % on parking-like ones, against 67 % and 94 % with weights 2, 1, ...); the ends of
+forward: on development scenes 76-77 % of runs hit on obstructed ones driven by this
+car, 94-95 % on parking-like ones, against 67 % and 94 % with weights 2, 1, ...); the ends of
 the path are also moved whole (``end_mutation``)."""
 
 

@@ -11,8 +11,8 @@ every step in between is a longer path, and the search stays where it is. An end
 move redraws one end's genes together, uniformly, or both ends of the direct path
 (no obstacle touched), the shape of most parking manoeuvres. On development scenes
 of the parking-like families (9 obstacles, 24 scenes, 50 runs each) the recommended
-preset hit the optimum in 77 % of runs without end moves and 95 % with them
-(``pm_ends`` 0.5; 93 % at 0.3 and 94 % at 0.7). A child moved at its ends gets no path move: the path move
+preset hit the optimum in 77 % of runs without end moves and 94-95 % with them
+(``pm_ends`` 0.5, two draws of the move; 93 % at 0.3 and 94 % at 0.7). A child moved at its ends gets no path move: the path move
 changes the touched obstacles of every child it takes, so with it the end move never
 tried an end on the best path itself (a held-out ``wall`` scene: 10 % of runs hit
 before, most after).

@@ -34,14 +34,15 @@ def reversing(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any,
         if d.get("optimum") is None or "free_turn_length" not in details:
             continue  # no Reeds-Shepp optimum here
         scenes.setdefault((d["family"], d["obstacles"]), {})[d["scenario"]] = {
-            "rs": d["optimum"], "free": details["free_turn_length"],
-            "tight": details.get("tight_rope_length"), "cusps": details.get("cusps", 0)}
+            "both": d["optimum"], "forward": details["free_turn_length"],
+            "rope": details.get("tight_rope_length"), "cusps": details.get("cusps", 0)}
     first = study.configs[0].label
     out = []
     for (family, n), by_scene in scenes.items():
         # A scene the forward car cannot drive at all: ratio 0 (reversing is all of it).
-        free = np.array([s["rs"] / s["free"] if s["free"] else 0.0 for s in by_scene.values()])
-        tight = np.array([s["rs"] / s["tight"] if s["tight"] else 0.0
+        free = np.array([s["both"] / s["forward"] if s["forward"] else 0.0
+                         for s in by_scene.values()])
+        tight = np.array([s["both"] / s["rope"] if s["rope"] else 0.0
                           for s in by_scene.values()])
         m = (tab["config"] == first) & (tab["family"] == family) & (tab["obstacles"] == n)
         per_scene = tab[m].groupby("scenario")["hit"].mean() if m.any() else pd.Series([], float)
