@@ -12,6 +12,7 @@ nothing of this changes a forward car's run.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 
 import jax
@@ -35,7 +36,9 @@ RS = car_model.get("reeds-shepp")
 VALUES = len(RS.genes[0].weights)
 
 
+@functools.lru_cache(maxsize=None)
 def _parking(kind: str, index: int, seed: int = 5, n: int = 9):
+    """A parking-like scene (made once per process: the generator solves its optimum)."""
     d = scenes.generate(kind, n, seed, index, f"{kind}{index}")
     d["robot"]["car"] = "reeds-shepp"
     return scenario_from_dict(d, f"{kind}{index}")
@@ -154,18 +157,6 @@ def test_quarter_turns_at_the_poses_express_the_parking_optimum(kind, index, gen
     assert gene in legs[np.flatnonzero(labels)[:-1]]  # by the quarter turn's gene
 
 
-def test_the_recommended_search_hits_a_parking_optimum_and_its_path_checks():
-    sc = _parking("slot", 0)
-    res = run_many(sc, "recommended", runs=12, seed=3)
-    assert res.settings.turns == "reeds-shepp" and res.legs is not None
-    assert res.optimum.turns == "reeds-shepp"
-    hits = (res.violations == 0) & (res.length <= res.optimum.length * (1 + 1e-9))
-    assert hits.mean() >= 0.75
-    assert res.best.length == pytest.approx(res.optimum.length, rel=1e-9)
-    assert any(s.get("reverse") for s in res.best.segments)
-    assert _rs_check.problems(scenario_to_dict(sc), res.best.segments, res.best.length) == []
-
-
 def test_end_settings_leave_a_forward_run_as_it_was():
     """The end move and its rate belong to the reversing car: a forward car's run (tight
     rope or free turns) draws the same words and makes the same runs whatever they say."""
@@ -212,66 +203,38 @@ def test_the_end_move_redraws_an_end_or_the_direct_path():
     assert (lg[direct][:, 1:-1] == legs[1:-1]).all()  # genes stay where labels are cleared
 
 
-def test_run_plot_and_export_a_reeds_shepp_result(tmp_path, capsys):
-    """From the command line: a run's summary counts the best path's cusps, its runs
-    redraw and export with their gears (the genes take seven values)."""
+def test_the_recommended_search_hits_a_parking_optimum_from_the_command_line(tmp_path, capsys):
+    """`hga-jax run` on a slot scene: the recommended search hits the Reeds-Shepp
+    optimum, its best path passes the independent check, the summary counts its cusps,
+    and its runs redraw and export with their gears (genes of seven values)."""
     import json
 
     import tomli_w
 
     from hga_jax.host.cli import main
 
-    d = scenario_to_dict(_parking("behind", 0))
-    d["ga"] = {"population": 20, "generations": 6}
-    path = tmp_path / "behind.toml"
-    path.write_text(tomli_w.dumps(d))
+    sc = _parking("slot", 0)
+    path = tmp_path / "slot.toml"
+    path.write_text(tomli_w.dumps(scenario_to_dict(sc)))
     out = tmp_path / "r"
-    assert main(["run", str(path), "--runs", "4", "--preset", "paper", "--out", str(out)]) == 0
+    assert main(["run", str(path), "--runs", "12", "--seed", "3", "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "cusp" in text.splitlines()[2] and "Reeds-Shepp optimum" in text
     doc = json.loads((out / "result.json").read_text())
-    assert doc["settings"]["car"] == "reeds-shepp"
+    assert doc["settings"]["car"] == "reeds-shepp" and doc["settings"]["turns"] == "reeds-shepp"
+    opt, best = doc["optimum"]["length"], doc["best"]
+    hits = [r["feasible"] and r["length"] <= opt * (1 + 1e-9) for r in doc["per_run"]]
+    assert sum(hits) >= 9  # 75 % of the runs
+    assert best["length"] == pytest.approx(opt, rel=1e-9)
+    assert any(seg.get("reverse") for seg in best["segments"])
+    assert _rs_check.problems(scenario_to_dict(sc), best["segments"], best["length"]) == []
     legs = [r["legs"] for r in doc["per_run"]]
-    assert all(len(g) == 11 for g in legs)
-    k = next(r["run"] for r in doc["per_run"] if max(r["legs"]) > 2) if any(
-        max(g) > 2 for g in legs) else 0
+    assert all(len(g) == sc.n + 2 and max(g) < VALUES for g in legs)
+    k = best["run"]
     assert main(["plot", str(out / "result.json"), "--run", str(k)]) == 0
     assert main(["export", str(out / "result.json"), "--run", str(k)]) == 0
     capsys.readouterr()
     poses = json.loads((out / f"poses_run{k}.json").read_text())
     gear = poses["columns"].index("gear")
-    reverse = any(seg.get("reverse") for seg in doc["best"]["segments"]) if k == doc["best"][
-        "run"] else None
     gears = {row[gear] for row in poses["poses"]}
-    assert gears <= {1.0, -1.0} and (reverse is None or (-1.0 in gears) == reverse)
-
-
-def test_the_reeds_shepp_study_and_its_reversing_table(tmp_path):
-    """The bundled study loads (full and quick), and the reversing analysis computes its
-    table from the cells' optima: savings, scenes the forward car cannot drive, hit
-    rates and the worst scene."""
-    import pandas as pd
-
-    from hga_jax.study.config import load_study
-    from hga_jax.study.reversing import reversing
-
-    study = load_study("configs/studies/reeds_shepp.toml")
-    assert study.yardstick == "reeds-shepp" and "reversing" in study.analyses
-    assert {f.car for f in study.families} == {None, "reeds-shepp"}
-    assert load_study("configs/studies/reeds_shepp.toml", quick=True).configs[0].label == \
-        "recommended"
-    docs = [{"family": "slot", "obstacles": 9, "scenario": s, "optimum": rs,
-             "optimum_details": {"free_turn_length": free, "tight_rope_length": tight,
-                                 "cusps": c}}
-            for s, rs, free, tight, c in (("a", 1.0, 2.0, 2.5, 1), ("b", 1.0, 1.005, 1.2, 0),
-                                          ("c", 0.8, None, None, 3))]
-    tab = pd.DataFrame({"config": "recommended", "family": "slot", "obstacles": 9,
-                        "scenario": ["a"] * 4 + ["b"] * 4 + ["c"] * 4,
-                        "hit": [1, 1, 1, 1, 1, 0, 1, 1, 0, 0, 1, 0]})
-    reversing(study, tab, docs, None, str(tmp_path))
-    row = pd.read_csv(tmp_path / "reversing.csv").iloc[0]
-    assert row["scenes"] == 3 and row["scenes_reversing_saves"] == 2
-    assert row["scenes_forward_no_path"] == 1
-    assert row["rs_to_free_median"] == pytest.approx(0.5) and row["rs_to_free_min"] == 0.0
-    assert row["hit_rate"] == pytest.approx(8 / 12) and row["worst_scene_hit_rate"] == 0.25
-    assert "3 (2; 1)" in (tmp_path / "reversing.md").read_text()
+    assert gears == {1.0, -1.0}  # the slot optimum backs up and drives forward

@@ -31,6 +31,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, Iterator
 
+import numpy as np
+
 DEFAULT = "tight-rope"
 """The paper's model: the default of ``turns`` everywhere."""
 DUBINS = "dubins"
@@ -114,6 +116,11 @@ class CarModel:
         in ``dtype``: with the tables of this model's fitness and, with ``with_legs``,
         the legs the path operators read."""
         raise NotImplementedError
+
+    def decode_arrays(self, scenario: Any) -> Any:
+        """The scenario's float64 arrays that decode this model's chromosomes (the
+        tables its genes read; no turn table)."""
+        return scenario.arrays(np.float64)
 
     def graph(self, scenario: Any, collision: str) -> Any:
         """The model's tangent graph of every feasible piece
@@ -225,6 +232,16 @@ def cars() -> tuple[str, ...]:
     """The cars of the registered models, the forward car first."""
     _builtins()
     return tuple(dict.fromkeys(m.car for m in _MODELS.values()))
+
+
+def with_genes(car: str) -> CarModel:
+    """The first model of ``car`` that adds genes to a chromosome: the one whose tables
+    decode a chromosome of that car carrying leg genes (``ValueError`` if none does)."""
+    _builtins()
+    found = [m for m in _MODELS.values() if m.car == car and m.genes]
+    if not found:
+        raise ValueError(f"no car model of {car!r} adds genes to a chromosome")
+    return found[0]
 
 
 def of_car(car: str) -> CarModel:

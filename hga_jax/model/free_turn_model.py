@@ -15,6 +15,8 @@ import math
 import time
 from typing import Any
 
+import numpy as np
+
 from hga_jax.errors import ModelMismatchError
 from hga_jax.words import count
 from . import car_model
@@ -56,6 +58,11 @@ class FreeTurns(car_model.CarModel):
         from .free_legs import search_arrays
 
         return search_arrays(scenario, dtype, with_legs)
+
+    def decode_arrays(self, scenario: Any) -> Any:
+        from .free_legs import leg_table
+
+        return scenario.arrays(np.float64)._replace(free_legs=leg_table(scenario))
 
     def graph(self, scenario: Any, collision: str) -> Any:
         from .free_turns import build

@@ -75,25 +75,14 @@ def decode64(scenario: Scenario, perm, labels, collision: str = "full", legs=Non
     return jax.tree.map(lambda *xs: np.concatenate(xs)[:rows], *parts)
 
 
-def reverses(scenario: Scenario) -> bool:
-    """Whether the scenario's car also drives backward (its chromosomes' leg genes then
-    carry gears, :mod:`hga_jax.model.reversing`)."""
+def _arrays64(scenario: Scenario, genes: bool):
+    """The float64 arrays that decode the scenario's chromosomes (with leg genes: the
+    tables of its car's model with genes, :func:`hga_jax.model.car_model.with_genes`)."""
+    if not genes:
+        return scenario.arrays(np.float64)
     from . import car_model
 
-    return car_model.of_car(scenario.car).reverses
-
-
-def _arrays64(scenario: Scenario, genes: bool):
-    """The float64 arrays that decode the scenario's chromosomes (with leg genes: its
-    car's leg table)."""
-    sa = scenario.arrays(np.float64)
-    if not genes:
-        return sa
-    if reverses(scenario):
-        from . import reeds_shepp_legs as rs
-
-        return sa._replace(tangents=rs.tangent_table(scenario), free_legs=rs.leg_table(scenario))
-    return sa._replace(free_legs=free_legs.leg_table(scenario))
+    return car_model.with_genes(scenario.car).decode_arrays(scenario)
 
 
 @dataclass
@@ -183,11 +172,10 @@ def legs_from_list(legs: Sequence[int] | None, n: int, source: str = "<chromosom
 
 def gene_values(scenario: Scenario) -> int:
     """How many values a leg gene of the scenario's car takes (3 for the forward car's
-    free turns)."""
+    free turns, 7 for the Reeds–Shepp car's)."""
     from . import car_model
 
-    genes = car_model.of_car(scenario.car).genes
-    return len(genes[0].weights) if genes else free_legs.VARIANTS
+    return len(car_model.with_genes(scenario.car).genes[0].weights)
 
 
 def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int],

@@ -19,6 +19,8 @@ import math
 import time
 from typing import Any
 
+import numpy as np
+
 from hga_jax.errors import ModelMismatchError
 from hga_jax.words import count
 from . import car_model
@@ -64,6 +66,12 @@ class ReedsShepp(car_model.CarModel):
         from .reeds_shepp_legs import search_arrays
 
         return search_arrays(scenario, dtype, with_legs)
+
+    def decode_arrays(self, scenario: Any) -> Any:
+        from . import reeds_shepp_legs as legs
+
+        return scenario.arrays(np.float64)._replace(tangents=legs.tangent_table(scenario),
+                                                    free_legs=legs.leg_table(scenario))
 
     def connect(self, p: Any, q: Any, rho: float) -> list[dict[str, Any]]:
         from . import reeds_shepp
