@@ -16,9 +16,11 @@ from test_free_turns import _loop_scene, check_path, pose_scene
 from hga_jax import scenario_from_dict
 from hga_jax.errors import ConfigError
 from hga_jax.model import free_legs, leg_space
-from hga_jax.model.decode import decode_batch
+from hga_jax.model.decode import decode_batch as _decode_batch
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import evaluate, looked_up
+
+decode_batch = jax.jit(_decode_batch, static_argnames="collision")  # compiled once per shape
 from hga_jax.model.path import decode64, evaluate_path, legs_from_list, segments_length
 from hga_jax.running.runner import run_many
 from hga_jax.search.settings import PAPER, RECOMMENDED, GASettings

@@ -22,15 +22,19 @@ import pytest
 import _rs_check
 from hga_jax import scenario_from_dict
 from hga_jax.model import car_model, reversing
-from hga_jax.model.decode import decode_batch
+from hga_jax.model.decode import decode_batch as _decode_batch
 from hga_jax.model.exact import solve
-from hga_jax.model.fitness import evaluate
+from hga_jax.model.fitness import evaluate as _evaluate
 from hga_jax.model.path import evaluate_path
 from hga_jax.model.scenario import scenario_to_dict
 from hga_jax.running.runner import run_many
 from hga_jax.search import end_ops, leg_ops
 from hga_jax.search.settings import RECOMMENDED, preset
 from hga_jax.study import scenes
+
+# Compiled once per shape: the eager decoder takes seconds for a few hundred rows.
+decode_batch = jax.jit(_decode_batch, static_argnames="collision")
+evaluate = jax.jit(_evaluate, static_argnames="collision")
 
 RS = car_model.get("reeds-shepp")
 VALUES = len(RS.genes[0].weights)
