@@ -28,10 +28,13 @@ from typing import Any
 
 import numpy as np
 
+from hga_jax.model import collision as col
+from hga_jax.model import geometry as g
 from . import circle_ids as ids
 from . import free_legs, reversing, tangents
 from . import legs as leg_info
 from . import turns as turn_tables
+from .reeds_shepp_graph import quarter_routes
 from .scenario import Scenario, ScenarioArrays
 
 VARIANTS = 7
@@ -95,10 +98,6 @@ def quarters(sc: Scenario):
     one pair, the one with fewest violations (its quarter turn and tangent against the
     obstacles and the field), then the shortest with the arc on the pose circle
     between the route and the start or goal point."""
-    from hga_jax.model import collision as col
-    from hga_jax.model import geometry as g
-    from .reeds_shepp_graph import quarter_routes
-
     circ = circles(sc, np.float64)
     x, y, r, sg, own = circ
     c = ids.count(sc.n)
