@@ -166,7 +166,7 @@ def test_end_settings_leave_a_forward_run_as_it_was():
     rope or free turns) draws the same words and makes the same runs whatever they say."""
     from hga_jax.search.variation import draw_rows
 
-    other = {"end_mutation": "none", "pm_ends": 0.9}
+    other = {"end_mutation": "none", "pm_ends": 0.9, "ends_of_best": 5}
     for turns in ("tight-rope", "free"):
         st = dataclasses.replace(RECOMMENDED, turns=turns)
         assert draw_rows(9, st) == draw_rows(9, dataclasses.replace(st, **other))
@@ -205,6 +205,40 @@ def test_the_end_move_redraws_an_end_or_the_direct_path():
     for part in (start, goal, direct):
         assert 0.15 < part.mean() < 0.6
     assert (lg[direct][:, 1:-1] == legs[1:-1]).all()  # genes stay where labels are cleared
+
+
+def test_the_last_children_are_the_parents_best_moved_at_its_ends():
+    """``ends_of_best = k``: the last k children of a generation are the parents' best,
+    each moved at one end (or both ends of the direct path); the other children are the
+    children of ``k = 0``, bit for bit."""
+    from hga_jax.search.state import Population
+    from hga_jax.search.variation import _draw, _vary
+
+    rng = np.random.default_rng(3)
+    n, pop, k = 7, 12, 4
+    perm, labels, legs = _random_chromosomes(rng, n, pop, touch=0.5)
+    fitness = rng.random(pop).astype(np.float32)
+    old = Population(perm, labels, fitness, fitness, np.zeros(pop, np.int32), legs)
+    base = dataclasses.replace(preset("paper"), turns="reeds-shepp", population=pop)
+    words = _draw(jax.random.key(4), n, base)
+    plain = [np.asarray(x) for x in _vary(words, old, base)]
+    moved = [np.asarray(x) for x in _vary(words, old, dataclasses.replace(base, ends_of_best=k))]
+    for a, b in zip(plain, moved):
+        np.testing.assert_array_equal(a[:-k], b[:-k])
+    b = int(np.argmax(fitness))
+    p, lab, lg = moved
+    last = n + 1
+    before = max(i for i in range(last) if labels[b, i] != 0 and i < last)
+    assert (p[-k:] == perm[b]).all()
+    for row_l, row_g in zip(lab[-k:], lg[-k:]):
+        same = lambda idx: (row_l[idx] == labels[b, idx]).all() and (  # noqa: E731
+            row_g[idx] == legs[b, idx]).all()
+        start = same(slice(1, last)) and row_l[last] == labels[b, last]
+        goal = same(slice(0, before)) and same(slice(before + 1, last)) and (
+            row_l[before] == labels[b, before])
+        direct = (row_l[1:last] == 0).all()
+        assert start or goal or direct
+    assert not all((lab[-k:] == labels[b]).all(axis=1) & (lg[-k:] == legs[b]).all(axis=1))
 
 
 def test_the_recommended_search_hits_a_parking_optimum_from_the_command_line(tmp_path, capsys):

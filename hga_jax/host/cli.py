@@ -92,6 +92,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "pc_legs": (float, None, "crossover probability per pair of parents, leg genes"),
     "pm_legs": (float, None, "mutation probability per gene, leg genes"),
     "pm_ends": (float, None, "probability per child of the end move (the Reeds-Shepp car)"),
+    "ends_of_best": (int, None, "children per generation that are the parents' best moved "
+                     "at its ends (the Reeds-Shepp car)"),
 }
 
 

@@ -21,7 +21,8 @@ Operators of the ``end_mutation`` kind (:mod:`hga_jax.search.registry`) take a k
 ONE individual's positional labels and leg genes (``(n + 2,)`` int32 each) and the
 number of values a leg gene takes (``values``), and return both; they jit and vmap.
 How often a move applies is the GA's business (``pm_ends`` per child, after every other
-move: :mod:`hga_jax.search.variation`).
+move, and on ``ends_of_best`` copies of the parents' best per generation:
+:mod:`hga_jax.search.variation`).
 """
 from __future__ import annotations
 

@@ -42,7 +42,9 @@ with probability ``pc_legs`` per pair and mutated by ``leg_mutation`` with proba
 ``pm_legs`` per gene; it rides with the labels' ``label_binding``. The Reeds–Shepp
 car (``"reeds-shepp"``) has leg genes of seven values (:mod:`hga_jax.model.reversing`)
 and moves on the ends of its path (``end_mutation``, with probability ``pm_ends`` per
-child: :mod:`hga_jax.search.end_ops`). Under a model without genes of its own the leg
+child: :mod:`hga_jax.search.end_ops`); ``ends_of_best = k`` makes the last k children
+of every generation copies of the parents' best, moved at their ends (a local search
+around the best, counted as every child). Under a model without genes of its own the leg
 and end settings do nothing and the random stream is the paper's.
 
 ``penalty_weight`` scales the paper's penalty per violation
@@ -99,6 +101,7 @@ class GASettings:
     pm_legs: float = 0.02
     end_mutation: str = "redraw"
     pm_ends: float = 0.5
+    ends_of_best: int = 0
 
     @property
     def model(self) -> car_model.CarModel:
@@ -160,7 +163,7 @@ class GASettings:
             return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
         for key in ("population", "generations", "tournament_size", "elites", "restart_after",
-                    "generations_per_obstacle"):
+                    "generations_per_obstacle", "ends_of_best"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad(key, f"must be an integer, got {v!r}")
@@ -172,6 +175,8 @@ class GASettings:
             raise bad("tournament_size", f"must be in 1..{pop()}, got {self.tournament_size}")
         if not 0 <= self.elites < self.population:
             raise bad("elites", f"must be in 0..{pop()} - 1, got {self.elites}")
+        if not 0 <= self.ends_of_best < self.population:
+            raise bad("ends_of_best", f"must be in 0..{pop()} - 1, got {self.ends_of_best}")
         if self.generations_per_obstacle < 0:
             raise bad("generations_per_obstacle", f"must be >= 0 (0: a fixed count), "
                       f"got {self.generations_per_obstacle}")
@@ -277,12 +282,13 @@ PAPER = GASettings()
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided", pm_path=1.0, seeding=1.0, restart_after=12,
-                         penalty_weight=10.0, generations_per_obstacle=24)
+                         penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles, one guided path move per child (the
 best of ten candidate moves by their legs), tournament selection, 2 elites, restarts
 of runs stalled for 12 generations, ten times the paper's penalty per violation
-during the search, and a budget that grows with the scene: the paper's 50 x 51
+during the search, two children per generation that move the best path's ends (the
+Reeds–Shepp car only), and a budget that grows with the scene: the paper's 50 x 51
 chromosomes up to 9 obstacles, 24 more generations per obstacle beyond (15
 obstacles: 50 x 195 = 9,750; 25: 50 x 435 = 21,750; 40: 50 x 795 = 39,750)
 (``configs/ga/recommended.toml``; measured in docs/results.md)."""

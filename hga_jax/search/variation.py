@@ -207,6 +207,15 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
     if genes is not None and "mutate_ends" in at:
         (module,) = _genes(settings)
         ends = (unit(rows("mutate_ends")[0]) < getattr(settings, module.pe))[:, None]
+        k = settings.ends_of_best
+        if k:  # the last k children: the parents' best, moved at its ends
+            b = jnp.argmax(old.fitness)
+            off = perm.shape[0] - 1 - jnp.arange(perm.shape[0])
+            tail = (off < k)[:, None]
+            perm = jnp.where(tail, old.perm[b], perm)
+            labels = jnp.where(tail, old.labels[b], labels)
+            genes = jnp.where(tail, old.legs[b], genes)
+            ends = ends | tail
     if settings.path_mutation != "none" and n >= 1:
         m, legs = rows("mutate_path"), _legs(sa, settings)
         move = registry.get("path_mutation", settings.path_mutation)
