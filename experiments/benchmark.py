@@ -18,6 +18,11 @@ What it measures (the paper's GA settings: population 50, 50 generations):
   model (``hga_jax.model.car_model.names()``): the median search time and a
   fingerprint of the runs' arrays (perm, labels, leg genes, lengths, violations), so
   that two checkouts can be compared side by side (same fingerprint: the same runs);
+- presets: the recommended preset against the paper's for the same evaluations
+  (both 50 x 51 per run, the recommended budget's growth with n switched off), R =
+  1,000 runs of ``robocup_paper`` (n = 9) and of the clutter scenes with 25 and 40
+  obstacles, timed alternately (paper, recommended, paper, ...): the median search
+  times and their ratio, the figure the speed goal is stated in;
 - DEAP: the same GA written with DEAP (:mod:`hga_jax.peers.deap_ga`, its
   fitness from a pure-Python decoder) on ``robocup_paper``, median wall time per
   run, and the ratio to hga-jax's search time per run at R = 10,000 (float32).
@@ -32,7 +37,7 @@ calibration times.
 
 Usage (from the repository root)::
 
-    python3 experiments/benchmark.py [--quick] [--only runs sizes models memory deap]
+    python3 experiments/benchmark.py [--quick] [--only runs sizes models presets memory deap]
         [--runs 1 100 1000 10000] [--sizes 25 50 100] [--precisions float32 float64]
         [--repeats 3] [--deap-runs 20] [--million] [--cpu-devices N]
         [--out results/benchmark/benchmark.json]
@@ -165,6 +170,28 @@ def model_case(sc, preset_name: str, turns: str, runs: int, repeats: int) -> dic
             "fingerprint": fingerprint, "calibration_s": cal}
 
 
+def presets_case(sc, runs: int, repeats: int) -> dict[str, Any]:
+    """The recommended preset against the paper's on ``sc``, the same evaluations per run
+    (the recommended budget's growth with n off), timed alternately after a first call."""
+    from hga_jax.search.settings import preset
+
+    paper = preset("paper")
+    rec = dataclasses.replace(preset("recommended"), generations_per_obstacle=0,
+                              generations=paper.generations)
+    cal = calibration()
+    times: dict[str, list[float]] = {"paper": [], "recommended": []}
+    for name, st in (("paper", paper), ("recommended", rec)):
+        run_many(sc, st, seed=0, runs=runs, exact=False)  # compile
+    for r in range(repeats):
+        for name, st in (("paper", paper), ("recommended", rec)):
+            times[name].append(run_many(sc, st, seed=1 + r, runs=runs, exact=False).search_s)
+    med = {k: statistics.median(v) for k, v in times.items()}
+    evaluations = runs * paper.population * (paper.generations + 1)
+    return {"scenario": sc.name, "n": sc.n, "runs": runs, "evaluations": evaluations,
+            "search_s": times, "paper_s": med["paper"], "recommended_s": med["recommended"],
+            "ratio": med["recommended"] / med["paper"], "calibration_s": cal}
+
+
 def memory_case(runs: int) -> dict[str, Any]:
     """Peak RSS of ``runs`` runs of the paper's setting, measured in a fresh process."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(hga_jax.__file__)))
@@ -268,8 +295,9 @@ def parse(argv=None) -> argparse.Namespace:
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog="See the module docstring for what each part measures.")
     p.add_argument("--quick", action="store_true", help="a fast smoke run of every part")
-    p.add_argument("--only", nargs="+", choices=("runs", "sizes", "models", "memory", "deap"),
-                   default=["runs", "sizes", "models", "memory", "deap"], help="parts to run")
+    p.add_argument("--only", nargs="+", choices=("runs", "sizes", "models", "presets", "memory",
+                                                   "deap"),
+                   default=["runs", "sizes", "models", "presets", "memory", "deap"], help="parts to run")
     p.add_argument("--runs", type=int, nargs="+", help="run counts at n = 9 (1 100 1000 10000)")
     p.add_argument("--sizes", type=int, nargs="+", help="obstacle counts at R = 1000 (25 50 100)")
     p.add_argument("--size-runs", type=int, help="runs per size case (1000)")
@@ -348,6 +376,17 @@ def main(argv=None) -> int:
                 report["models"].append(m)
                 print(f"{name:<12} {turns:<11} {m['search_median_s']:9.3f} "
                       f"{m['evaluations_per_s']:12,.0f}  {m['fingerprint']}", flush=True)
+    report["presets"] = []
+    if "presets" in args.only:
+        runs = 100 if args.quick else 1000
+        print(f"\nrecommended against paper, the same {50 * 51:,} evaluations per run, {runs:,} "
+              f"runs; search: median of {args.repeats}, timed alternately", flush=True)
+        print(f"{'scene':<18} {'n':>3} {'paper s':>9} {'recommended s':>14} {'ratio':>7}")
+        for sc in [paper_scene()] + [clutter_scene(n) for n in ((25,) if args.quick else (25, 40))]:
+            c = presets_case(sc, runs, args.repeats)
+            report["presets"].append(c)
+            print(f"{c['scenario']:<18} {c['n']:>3} {c['paper_s']:9.3f} {c['recommended_s']:14.3f} "
+                  f"{c['ratio']:7.2f}", flush=True)
     report["memory"] = []
     if "memory" in args.only:
         counts = list(args.memory_runs) + ([MILLION] if args.million else [])

@@ -50,6 +50,19 @@ def test_benchmark_quick(tmp_path):
         assert r["deap_over_hga_jax"] == pytest.approx(r["deap_per_run_s"] / r["hga_jax_per_run_s"])
 
 
+def test_benchmark_presets_ratio(tmp_path):
+    """Prints the recommended preset's search time over the paper's, the same evaluations."""
+    out = tmp_path / "benchmark.json"
+    proc = _run("experiments/benchmark.py", "--quick", "--only", "presets", "--out", str(out))
+    cases = json.loads(out.read_text())["presets"]
+    assert [c["n"] for c in cases] == [9, 25]
+    for c in cases:
+        assert c["evaluations"] == c["runs"] * 50 * 51
+        assert c["ratio"] == pytest.approx(c["recommended_s"] / c["paper_s"])
+        print(f"n = {c['n']}: recommended / paper search time {c['ratio']:.2f}")
+    assert "ratio" in proc.stdout
+
+
 def test_benchmark_exact():
     _run("experiments/bench_exact.py", "--scenes", "8", "--repeats", "5")
 

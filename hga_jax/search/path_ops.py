@@ -30,7 +30,7 @@ obstacles.
 """
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -77,51 +77,97 @@ def move_apply(perm: Array, labels: Array, j: Array, i: Array, label: Array) -> 
     return take(perm, src), jnp.concatenate([labels[:1], mid, labels[-1:]])
 
 
+class Plan(NamedTuple):
+    """A move as data (int32 scalars): the obstacle at permutation position ``j`` moved
+    to position ``i`` with label ``label`` (0: untouched; ``j = i`` and the same label:
+    nothing), then the label at chromosome position ``end`` negated (the start's, 0, or
+    the goal's, ``n + 1``; -1: none). :func:`apply` makes the chromosome, and
+    :mod:`hga_jax.search.guided` scores a plan by the legs it changes, before making it."""
+
+    j: Array
+    i: Array
+    label: Array
+    end: Array
+
+
+def _plan(j, i, label, end=-1) -> Plan:
+    return Plan(*(jnp.asarray(v, jnp.int32) for v in (j, i, label, end)))
+
+
+def unchanged(labels: Array) -> Plan:
+    """The plan that changes nothing."""
+    return _plan(0, 0, labels[1], -1)
+
+
+def apply(perm: Array, labels: Array, plan: Plan) -> tuple[Array, Array]:
+    """The chromosome ``plan`` makes of ``(perm, labels)`` (one chromosome)."""
+    if perm.shape[-1]:
+        perm, labels = move_apply(perm, labels, plan.j, plan.i, plan.label)
+    pos = jnp.arange(labels.shape[-1], dtype=jnp.int32)
+    return perm, jnp.where(pos == plan.end, -labels, labels)
+
+
+def _moves(plans):
+    """A move ``(key, perm, labels, legs) -> (perm, labels)`` from its plan."""
+    def move(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
+        return apply(perm, labels, plans(key, perm, labels, legs))
+
+    move.__name__ = plans.__name__.removeprefix("plan_")
+    move.__qualname__ = move.__name__
+    move.__doc__ = plans.__doc__
+    return move
+
+
 def keep(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
     """No move (``path_mutation = "none"``): the chromosome unchanged."""
     return perm, labels
 
 
-def flip(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
+def plan_flip(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
     """Reverse the label of one touched circle (start and goal included, unless the
     legs hold the ends: a reversing car's ends are the end move's)."""
     movable = labels != 0
     if legs is not None and getattr(legs, "ends", None) is not None:
         movable = movable.at[0].set(False).at[-1].set(False)
     k, _ = _choose(movable, _words(key, 1)[0])
-    pos = jnp.arange(labels.shape[-1], dtype=jnp.int32)
-    return perm, jnp.where(pos == k, -labels, labels)
+    end = (k == 0) | (k == labels.shape[-1] - 1)
+    return _plan(jnp.where(end, 0, k - 1), jnp.where(end, 0, k - 1),
+                 jnp.where(end, labels[1], -take(labels, k[None])[0]), jnp.where(end, k, -1))
 
 
-def drop(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
+def plan_drop(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
     """Set the label of one touched obstacle to 0."""
     k, any_ = _choose(labels[1:-1] != 0, _words(key, 1)[0])
-    pos = jnp.arange(labels.shape[-1], dtype=jnp.int32)
-    return perm, jnp.where(any_ & (pos == k + 1), 0, labels)
+    return _plan(k, k, jnp.where(any_, 0, labels[1]))
 
 
 def _sign(word: Array) -> Array:
     return jnp.where((word >> 31) == 0, -1, 1).astype(jnp.int32)
 
 
-def insert(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
+def _relocation(j, i, label, ok, labels) -> Plan:
+    """Move ``j`` to ``i`` with ``label`` where ``ok``, else nothing."""
+    return _plan(jnp.where(ok, j, 0), jnp.where(ok, i, 0), jnp.where(ok, label, labels[1]))
+
+
+def plan_insert(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
     """Touch one untouched obstacle (random direction), moved to a random position."""
     n = perm.shape[-1]
     w = _words(key, 3)
     j, any_ = _choose(labels[1:-1] == 0, w[0])
-    i = int_from_words(w[1], 0, n)
-    p2, l2 = move_apply(perm, labels, j, i, _sign(w[2]))
-    return jnp.where(any_, p2, perm), jnp.where(any_, l2, labels)
+    return _relocation(j, int_from_words(w[1], 0, n), _sign(w[2]), any_, labels)
 
 
-def shift(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Array, Array]:
+def plan_shift(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
     """Move one touched obstacle, with its label, to a random position (or-opt)."""
     n = perm.shape[-1]
     w = _words(key, 2)
     j, any_ = _choose(labels[1:-1] != 0, w[0])
-    i = int_from_words(w[1], 0, n)
-    p2, l2 = move_apply(perm, labels, j, i, take(labels[1:-1], j[None])[0])
-    return jnp.where(any_, p2, perm), jnp.where(any_, l2, labels)
+    return _relocation(j, int_from_words(w[1], 0, n), take(labels[1:-1], j[None])[0], any_,
+                       labels)
+
+
+flip, drop, insert, shift = (_moves(f) for f in (plan_flip, plan_drop, plan_insert, plan_shift))
 
 
 def path_circles(perm: Array, labels: Array) -> tuple[Array, Array]:
@@ -153,10 +199,12 @@ def next_touched(touched: Array) -> Array:
     return jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
 
 
-def _wrap_one(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]:
-    """``repair`` without its fallback: the chromosome and whether a leg was blocked."""
+def _wrap_one(key: Array, perm: Array, labels: Array, legs,
+              found=None) -> tuple[Plan, Array]:
+    """``repair`` without its fallback: its plan and whether a leg was blocked
+    (``found``: :func:`blocked_legs` of the chromosome, if made already)."""
     w = _words(key, 3)
-    ids, nxt_id, blocked = blocked_legs(perm, labels, legs)
+    ids, nxt_id, blocked = blocked_legs(perm, labels, legs) if found is None else found
     k, any_leg = _choose(blocked, w[0])
     a, c = ids[k], nxt_id[k]
     o, _ = _choose(jnp.asarray(legs.blockers)[a, c], w[1])  # the blocking obstacle
@@ -166,17 +214,20 @@ def _wrap_one(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Arra
     label = _sign(w[2])
     j = jnp.argmax(perm == o).astype(jnp.int32)  # o's position
     q = k - 1  # the leg's first circle, as a permutation position (-1: the start)
-    p2, l2 = move_apply(perm, labels, j, jnp.where(j > q, q + 1, q), label)
     ok = any_leg & (j != q)
-    return jnp.where(ok, p2, perm), jnp.where(ok, l2, labels), ok
+    return _relocation(j, jnp.where(j > q, q + 1, q), label, ok, labels), ok
 
 
-def repair(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
-    """Wrap an obstacle that blocks a leg between the leg's circles (see module doc)."""
+def plan_repair(key: Array, perm: Array, labels: Array, legs, found=None) -> Plan:
+    """Wrap an obstacle that blocks a leg between the leg's circles (see module doc);
+    ``found``: :func:`blocked_legs` of the chromosome, if made already."""
     k1, k2 = jax.random.split(key)
-    p2, l2, ok = _wrap_one(k1, perm, labels, legs)
-    p3, l3 = insert(k2, perm, labels)
-    return jnp.where(ok, p2, p3), jnp.where(ok, l2, l3)
+    wrap, ok = _wrap_one(k1, perm, labels, legs, found)
+    other = plan_insert(k2, perm, labels)
+    return Plan(*(jnp.where(ok, a, b) for a, b in zip(wrap, other)))
+
+
+repair = _moves(plan_repair)
 
 
 def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
@@ -188,21 +239,27 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, 
     labels = labels.at[1:-1].set(0)
 
     def body(t, pl):
-        p, l, _ = _wrap_one(jax.random.fold_in(key, t), *pl, legs)
-        return p, l
+        return apply(*pl, _wrap_one(jax.random.fold_in(key, t), *pl, legs)[0])
 
     return jax.lax.fori_loop(0, n, body, (perm, labels))
 
 
-def mixed(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
+def plan_mixed(key: Array, perm: Array, labels: Array, legs) -> Plan:
     """One of ``flip``, ``drop``, ``insert``, ``shift`` and ``repair``, uniformly.
 
-    All five are computed and one is kept (under ``vmap`` a ``switch`` computes them
-    all anyway, and measured 3x slower than this select)."""
-    moves = (flip, drop, insert, shift, repair)
-    which = int_from_words(_words(key, 1)[0], 0, len(moves))
+    All five plans are made and one is kept (under ``vmap`` a ``switch`` computes them
+    all anyway); the chromosome is made once."""
+    which = int_from_words(_words(key, 1)[0], 0, len(PLANS))
     sub = jax.random.fold_in(key, 7)
-    outs = [move(sub, perm, labels, legs) for move in moves]
-    return (jax.lax.select_n(which, *[o[0] for o in outs]),
-            jax.lax.select_n(which, *[o[1] for o in outs]))
+    return select(which, [plan(sub, perm, labels, legs) for plan in PLANS])
 
+
+def select(which: Array, plans) -> Plan:
+    """Plan number ``which`` of ``plans`` (a select of int32 scalars)."""
+    return Plan(*(jax.lax.select_n(which, *field) for field in zip(*plans)))
+
+
+PLANS = (plan_flip, plan_drop, plan_insert, plan_shift, plan_repair)
+"""The plans of the five moves, in the order ``mixed`` and ``guided`` draw them."""
+
+mixed = _moves(plan_mixed)
