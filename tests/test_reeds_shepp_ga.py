@@ -221,8 +221,9 @@ def test_the_last_children_are_the_parents_best_moved_at_its_ends():
     old = Population(perm, labels, fitness, fitness, np.zeros(pop, np.int32), legs)
     base = dataclasses.replace(preset("paper"), turns="reeds-shepp", population=pop)
     words = _draw(jax.random.key(4), n, base)
-    plain = [np.asarray(x) for x in _vary(words, old, base)]
-    moved = [np.asarray(x) for x in _vary(words, old, dataclasses.replace(base, ends_of_best=k))]
+    vary = jax.jit(_vary, static_argnums=2)  # compiled: eager, the variation takes seconds
+    plain = [np.asarray(x) for x in vary(words, old, base)]
+    moved = [np.asarray(x) for x in vary(words, old, dataclasses.replace(base, ends_of_best=k))]
     for a, b in zip(plain, moved):
         np.testing.assert_array_equal(a[:-k], b[:-k])
     b = int(np.argmax(fitness))

@@ -186,7 +186,13 @@ def _population(P=10, n=N, seed=0):
 def _vary(settings, old, seed=0):
     words = jax.random.bits(jax.random.key(seed), (variation.draw_rows(old.perm.shape[1], settings),
                                                    old.perm.shape[0]), dtype=jnp.uint32)
-    return (np.asarray(x) for x in variation._vary(words, old, settings)[:2])
+
+    @jax.jit  # compiled: eager, the variation's many small steps take seconds
+    def vary(words, perm, labels, fitness):
+        pop = types.SimpleNamespace(perm=perm, labels=labels, fitness=fitness, legs=old.legs)
+        return variation._vary(words, pop, settings)[:2]
+
+    return (np.asarray(x) for x in vary(words, old.perm, old.labels, old.fitness))
 
 
 def test_user_crossover_selection_and_label_mutation_in_one_generation():
