@@ -58,10 +58,10 @@ def leg_score(perm: Array, labels: Array, legs) -> Array:
     ids, touched = path_ops.path_circles(perm, labels)
     nid = take(ids, path_ops.next_touched(touched))
     on = touched & (jnp.arange(s) < s - 1)
-    length, bad = jnp.asarray(legs.length), jnp.asarray(legs.bad)
-    per_leg = jnp.where(on, length[ids, nid] + jnp.where(bad[ids, nid], legs.penalty, 0.0), 0.0)
+    per_leg = jnp.where(on, weights(legs)[ids, nid], 0.0)
     # Added in position order, one add at a time: a reduction's order may depend on how
-    # XLA vectorises the batch, and a run must score alike alone and in any batch.
+    # XLA vectorises the batch, and a run must score alike alone and in any batch (the
+    # search scores moves by :func:`change`; this whole sum is their definition).
     total = per_leg[0]
     for k in range(1, s):
         total = total + per_leg[k]

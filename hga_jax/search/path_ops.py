@@ -94,11 +94,6 @@ def _plan(j, i, label, end=-1) -> Plan:
     return Plan(*(jnp.asarray(v, jnp.int32) for v in (j, i, label, end)))
 
 
-def unchanged(labels: Array) -> Plan:
-    """The plan that changes nothing."""
-    return _plan(0, 0, labels[1], -1)
-
-
 def apply(perm: Array, labels: Array, plan: Plan) -> tuple[Array, Array]:
     """The chromosome ``plan`` makes of ``(perm, labels)`` (one chromosome)."""
     if perm.shape[-1]:
