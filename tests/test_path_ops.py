@@ -575,3 +575,14 @@ def test_register_move():
         registry.unregister("path_mutation", "keep_for_test")
     with pytest.raises(ConfigError, match="path_mutation"):
         GASettings(path_mutation="keep_for_test")
+
+
+@pytest.mark.parametrize("n", [9, 25, 40])  # comparisons up to 20 obstacles, a suffix minimum beyond
+def test_next_touched_is_the_first_touched_position_after_each(n):
+    s = n + 2
+    touched = np.random.default_rng(n).random((300, s)) < 0.3
+    touched[:, 0] = touched[:, -1] = True  # the start and the goal are always touched
+    got = np.asarray(jax.jit(jax.vmap(path_ops.next_touched))(touched))
+    for row, t in zip(got, touched):
+        want = [next((q for q in range(k + 1, s) if t[q]), s - 1) for k in range(s)]
+        assert row.tolist() == want

@@ -37,7 +37,7 @@ import jax.numpy as jnp
 from jax import Array
 
 from hga_jax.model.decode import position_circles
-from .permutation import int_from_words, take
+from .permutation import ONEHOT_MAX_N, int_from_words, take
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
 
@@ -186,12 +186,24 @@ def blocked_legs(perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]
 
 def next_touched(touched: Array) -> Array:
     """Per position ``k`` (n + 2,) the first touched position after ``k`` (the goal's,
-    ``n + 1``, for the goal itself). O(n^2) comparisons: vmapped on the CPU they ran
-    4 times faster than a reversed running minimum (``cummin``) at n = 25."""
+    ``n + 1``, for the goal itself). Up to :data:`~hga_jax.search.permutation.ONEHOT_MAX_N`
+    obstacles, O(n^2) comparisons (vmapped on the CPU, 4 times faster than a reversed
+    running minimum, ``cummin``, at n = 25); beyond, a suffix minimum in log2(n + 2)
+    steps of shifted minima (the recommended preset's search 10 % faster at 25
+    obstacles and 30 % at 40, the same bits; at 9 the comparisons are faster)."""
     s = touched.shape[-1]
     pos = jnp.arange(s, dtype=jnp.int32)
-    later = touched[None, :] & (pos[None, :] > pos[:, None])  # (s, s)
-    return jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
+    if s - 2 <= ONEHOT_MAX_N:
+        later = touched[None, :] & (pos[None, :] > pos[:, None])  # (s, s)
+        return jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
+    last = jnp.full((s,), s - 1, jnp.int32)
+    after = jnp.where(touched, pos, s - 1)[1:]  # position k + 1's own, if touched
+    v = jnp.concatenate([after, last[:1]])
+    d = 1
+    while d < s:  # v[k] = min(v[k], v[k + d]): then it covers k + 1 .. k + 2d
+        v = jnp.minimum(v, jnp.concatenate([v[d:], last[:d]]))
+        d *= 2
+    return v
 
 
 def _wrap_one(key: Array, perm: Array, labels: Array, legs,
