@@ -223,7 +223,7 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
             keys0 = _put(host_generation_keys(seed, ks_all[:size], settings), sharding)
             blank = _put_tree(_blank_batch(size, sa, settings), sharding)
-            block = compiled.program(("ga-block", settings) + shapes, lambda: jax.jit(
+            block = compiled.program(("ga-block", settings.structure()) + shapes, lambda: jax.jit(
                 _per_device(functools.partial(_block, steps=cut.block), sharding)
             ).lower(keys0, blank, np.int32(0), sa), disk=registry.builtin_only(settings))
             compile_s, search_s = time.perf_counter() - t0, 0.0
@@ -310,7 +310,8 @@ def _block(keys, core, first, sa, steps: int):
 
 
 def _run_axes(core):
-    """The run axis of each leaf of a batch's state: 0, but none for the generation count."""
+    """The run axis of each leaf of a batch's state: 0, but none for the generation count and
+    the rates (one for the batch)."""
     return jax.tree.map(lambda a: None if np.ndim(a) == 0 else 0, core)
 
 
@@ -340,7 +341,8 @@ def _blank_batch(size: int, sa, settings: GASettings) -> Any:
     its problem, as numpy arrays: no device program runs to make it."""
     one = ga.blank(sa, settings)._replace(problem=None)
     batch = jax.tree.map(lambda a: np.broadcast_to(a, (size,) + np.shape(a)), one)
-    return batch._replace(generation=one.generation)  # one count for the batch
+    # one generation count and one set of rates for the batch
+    return batch._replace(generation=one.generation, rates=one.rates)
 
 
 def _put(ks: np.ndarray, sharding: Any) -> Any:

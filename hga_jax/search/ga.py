@@ -41,8 +41,7 @@ __all__ = ["RUNS", "Best", "GAState", "Population", "Record", "blank", "compiled
 
 
 def _evaluated(sa, perm, labels, legs, settings) -> Population:
-    if settings.penalty_weight != 1.0:
-        sa = sa._replace(delta=sa.delta * settings.penalty_weight)
+    sa = sa._replace(delta=sa.delta * settings.penalty_weight)  # x 1 is exact
     at = None if legs is None else positional(perm, legs, settings)
     e = evaluate(sa, perm, positional(perm, labels, settings), settings.collision, at)
     return Population(perm, labels, e.fitness, e.length, e.violations, legs)
@@ -111,7 +110,7 @@ def step(key, state: GAState) -> GAState:
     (both modules, then the path move), give the runs that restart fresh chromosomes
     instead, evaluate, keep the elites (not in a restart), track the best. One draw
     of words serves the whole generation (see the layout above)."""
-    settings, sa, g = state.settings, state.problem, state.generation
+    settings, sa, g = state.settings.with_rates(state.rates), state.problem, state.generation
     words = _draw(key, sa.centres.shape[0], settings)
     restart = _restarts(state)
     pop = jax.tree.map(jnp.asarray, state.pop)  # a blank state's numpy arrays too
@@ -121,7 +120,7 @@ def step(key, state: GAState) -> GAState:
     perm, labels, legs = _restarted(words, chrom, restart, sa, settings)
     pop = _kept(_evaluated(sa, perm, labels, legs, settings), state.pop, restart, settings)
     best = _update_best(state.best, pop, g, settings)
-    return GAState(pop, best, g + 1, sa, settings)
+    return GAState(pop, best, g + 1, sa, state.settings, state.rates)
 
 
 @fixed_stream

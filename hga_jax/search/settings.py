@@ -56,13 +56,35 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Callable, Mapping, NamedTuple, Sequence
+
+import numpy as np
 
 from hga_jax.errors import ConfigError
 from hga_jax.model import car_model
 from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
+RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
+         "pm_ends", "penalty_weight")
+"""Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
+configurations that differ only in these run the same program."""
+
+
+class Rates(NamedTuple):
+    """The :data:`RATES` of a configuration as arrays (scalars): probabilities float32
+    (compared with the float32 uniforms of :func:`hga_jax.search.rng.unit`), the penalty
+    weight in the search's float type."""
+
+    pc_upper: Any
+    pm_upper: Any
+    pc_lower: Any
+    pm_lower: Any
+    pm_path: Any
+    pc_legs: Any
+    pm_legs: Any
+    pm_ends: Any
+    penalty_weight: Any
 BUDGET_BASE = 9
 """Obstacles (the paper's scene) up to which ``generations_per_obstacle`` adds nothing."""
 PRECISIONS = ("float32", "float64")
@@ -135,6 +157,26 @@ class GASettings:
         return {"rule": f"generations = {self.generations} + {k} * max(0, n - {BUDGET_BASE})",
                 "obstacles": int(n), "generations": g,
                 "evaluations_per_run": self.population * (g + 1)}
+
+    def rates(self, dtype: Any = np.float32) -> Rates:
+        """The :data:`RATES` as arrays (``dtype``: the search's float type, of the penalty
+        weight)."""
+        return Rates(*(np.asarray(getattr(self, k), dtype if k == "penalty_weight"
+                                  else np.float32) for k in RATES))
+
+    def structure(self) -> "GASettings":
+        """These settings without their :data:`RATES` (probabilities 0, weight 1): what
+        a compiled program depends on, and its identity."""
+        return dataclasses.replace(self, **{k: 1.0 if k == "penalty_weight" else 0.0
+                                            for k in RATES})
+
+    def with_rates(self, rates: Rates) -> "GASettings":
+        """These settings with the :data:`RATES` of ``rates`` (traced arrays inside a
+        program: unchecked, unhashable, for reading only)."""
+        obj = object.__new__(GASettings)
+        obj.__dict__.update(self.__dict__)
+        obj.__dict__.update(rates._asdict())
+        return obj
 
     @property
     def uses_legs(self) -> bool:

@@ -2,8 +2,9 @@
 
 A state holds one run's population (``P`` chromosomes with their evaluation), its
 best-so-far, the number of generations made, the problem (the scenario's device
-arrays) and the settings (static: no arrays, part of a compiled program's
-identity). Lengths are metres without penalty; fitness is ``10000 / (Dist_m + 1)``.
+arrays), the settings' structure (static: no arrays, part of a compiled program's
+identity) and their rates (arrays, so that configurations differing only in rates
+run one program: :data:`~hga_jax.search.settings.RATES`). Lengths are metres without penalty; fitness is ``10000 / (Dist_m + 1)``.
 """
 from __future__ import annotations
 
@@ -54,7 +55,8 @@ class GAState(NamedTuple):
     best: Best
     generation: Any  # () int32: generations made so far, so the number of the next one
     problem: Any  # ScenarioArrays (float32 or float64, with legs if the settings use them)
-    settings: GASettings  # static
+    settings: GASettings  # static: the structure, without its rates (GASettings.structure)
+    rates: Any = None  # Rates: the settings' rates, data of the program (GASettings.rates)
 
 
 class Record(NamedTuple):
@@ -80,7 +82,8 @@ def blank(problem: ScenarioArrays, settings: GASettings) -> GAState:
     best = Best(np.zeros(n, np.int32), np.zeros(n + 2, np.int32), np.array(-np.inf, dt),
                 np.zeros((), dt), np.zeros((), np.int32), np.zeros((), np.int32),
                 np.zeros(n + 2, np.int32) if free else None)
-    return GAState(pop, best, np.zeros((), np.int32), problem, settings)
+    return GAState(pop, best, np.zeros((), np.int32), problem, settings.structure(),
+                   settings.rates(dt))
 
 
 def record(state: GAState) -> Record:

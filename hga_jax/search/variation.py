@@ -49,7 +49,7 @@ def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
         raise ValueError("these settings use path moves or seeding: pass scenario arrays "
                          "from Scenario.search_arrays(..., with_legs=True)")
     legs = sa.legs
-    if settings is not None and settings.penalty_weight != 1.0 and legs.penalty is not None:
+    if settings is not None and legs.penalty is not None:  # x 1 is exact
         legs = legs._replace(penalty=legs.penalty * settings.penalty_weight)
     return legs
 
