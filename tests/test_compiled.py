@@ -123,3 +123,38 @@ def test_the_folder_keeps_its_size_by_dropping_the_least_recently_used(folder, m
     compiled.program(("size", 3), Counted(4.0))  # a fourth program: over the size
     (name[3],) = set(_files(folder)) - before
     assert sorted(_files(folder)) == sorted([name[0], name[3]])  # 1 and 2 went first
+
+
+def test_configurations_differing_in_rates_run_one_program(folder, monkeypatch):
+    """Rates, the penalty weight, the seeding share and the restart interval are data of
+    the compiled GA (GASettings.rates): a second configuration that differs only in them
+    compiles nothing, and its runs are those it makes with a program of its own."""
+    from hga_jax.host.config import load_scenario
+    from hga_jax.running import runner
+    from hga_jax.search.settings import PAPER
+
+    lowered = []
+    real = compiled.program
+
+    def counting(key, lower, **kw):
+        def counted():
+            lowered.append(key[0])
+            return lower()
+        return real(key, counted, **kw)
+
+    monkeypatch.setattr(runner.compiled, "program", counting)
+    sc = load_scenario(ROBOCUP)
+    a = PAPER.replace(generations=6, path_mutation="flip", pm_path=0.3, seeding=0.5,
+                      restart_after=2, elites=1)
+    b = a.replace(pc_upper=0.9, pm_upper=0.3, pc_lower=0.1, pm_lower=0.2, pm_path=0.8,
+                  penalty_weight=4.0, seeding=1.0, restart_after=3)
+    ra = runner.run_many(sc, a, runs=6, seed=3, exact=False)
+    rb = runner.run_many(sc, b, runs=6, seed=3, exact=False)
+    assert lowered.count("ga-block") == 1  # one GA program for both
+    compiled.forget()
+    compiled.use_folder(None)  # b compiled for itself, nothing found again
+    alone = runner.run_many(sc, b, runs=6, seed=3, exact=False)
+    assert lowered.count("ga-block") == 2
+    for x, y in ((rb.perm, alone.perm), (rb.labels, alone.labels), (rb.length, alone.length)):
+        np.testing.assert_array_equal(x, y)
+    assert not np.array_equal(ra.labels, rb.labels)  # and b's rates were b's

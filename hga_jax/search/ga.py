@@ -78,10 +78,11 @@ def _restarts(state: GAState):
     """Which runs start anew in the generation ``state`` is about to make: a blank
     run (generation 0), and, at generations R, 2R, ... (``R = restart_after``), a
     run whose best-so-far was not improved in the R generations before."""
-    g, r = state.generation, state.settings.restart_after
-    if not r:
+    g = state.generation
+    if not state.settings.restarts:  # structure: a batch's runs then restart together
         return g == 0
-    return (g == 0) | ((g % r == 0) & (state.best.generation <= g - r))
+    r = state.rates.restart_after  # data
+    return (g == 0) | ((g % jnp.maximum(r, 1) == 0) & (state.best.generation <= g - r))
 
 
 def _restarted(words, chrom, restart, sa, settings: GASettings):

@@ -1,4 +1,5 @@
-"""GA settings: a frozen, hashable dataclass (a static argument of the compiled step).
+"""GA settings: a frozen, hashable dataclass. Its structure (:meth:`GASettings.structure`)
+is static in the compiled step, its rates (:data:`RATES`) are the step's data.
 
 Defaults are the paper's (section 4): population 50, 50 generations,
 ``pc = 0.4`` and ``pm = 0.02`` for both modules, roulette selection, cycle
@@ -66,15 +67,17 @@ from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
 RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
-         "pm_ends", "penalty_weight")
+         "pm_ends", "penalty_weight", "seeding", "restart_after")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
-configurations that differ only in these run the same program."""
+configurations that differ only in these run the same program. Of ``seeding`` and
+``restart_after`` only whether they are on (> 0) is structure."""
 
 
 class Rates(NamedTuple):
     """The :data:`RATES` of a configuration as arrays (scalars): probabilities float32
     (compared with the float32 uniforms of :func:`hga_jax.search.rng.unit`), the penalty
-    weight in the search's float type."""
+    weight in the search's float type, ``seeded`` the number of seeded individuals of a
+    fresh population (``round(seeding * population)``) and ``restart_after`` int32."""
 
     pc_upper: Any
     pm_upper: Any
@@ -85,6 +88,8 @@ class Rates(NamedTuple):
     pm_legs: Any
     pm_ends: Any
     penalty_weight: Any
+    seeded: Any
+    restart_after: Any
 BUDGET_BASE = 9
 """Obstacles (the paper's scene) up to which ``generations_per_obstacle`` adds nothing."""
 PRECISIONS = ("float32", "float64")
@@ -161,27 +166,49 @@ class GASettings:
     def rates(self, dtype: Any = np.float32) -> Rates:
         """The :data:`RATES` as arrays (``dtype``: the search's float type, of the penalty
         weight)."""
-        return Rates(*(np.asarray(getattr(self, k), dtype if k == "penalty_weight"
-                                  else np.float32) for k in RATES))
+        f4 = np.float32
+        return Rates(*(np.asarray(getattr(self, k), f4) for k in RATES[:8]),
+                     np.asarray(self.penalty_weight, dtype),
+                     np.asarray(int(round(self.seeding * self.population)), np.int32),
+                     np.asarray(self.restart_after, np.int32))
 
     def structure(self) -> "GASettings":
-        """These settings without their :data:`RATES` (probabilities 0, weight 1): what
-        a compiled program depends on, and its identity."""
-        return dataclasses.replace(self, **{k: 1.0 if k == "penalty_weight" else 0.0
-                                            for k in RATES})
+        """These settings without their :data:`RATES` (probabilities 0, weight 1;
+        ``seeding`` and ``restart_after`` 1 where on, else 0): what a compiled program
+        depends on, and its identity."""
+        return dataclasses.replace(
+            self, **{k: 0.0 for k in RATES[:8]}, penalty_weight=1.0,
+            seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0))
 
     def with_rates(self, rates: Rates) -> "GASettings":
-        """These settings with the :data:`RATES` of ``rates`` (traced arrays inside a
-        program: unchecked, unhashable, for reading only)."""
+        """These settings (a structure) with the :data:`RATES` of ``rates`` (traced
+        arrays inside a program: unchecked, unhashable, for reading only);
+        :meth:`static` gives the structure back."""
         obj = object.__new__(GASettings)
         obj.__dict__.update(self.__dict__)
         obj.__dict__.update(rates._asdict())
+        obj.__dict__["_static"] = self
         return obj
+
+    def static(self) -> "GASettings":
+        """The settings whose values are Python values: these, or the structure that
+        :meth:`with_rates` was given."""
+        return self.__dict__.get("_static", self)
+
+    @property
+    def seeds(self) -> bool:
+        """Whether fresh populations are seeded (``seeding > 0``; structure)."""
+        return self.static().seeding > 0
+
+    @property
+    def restarts(self) -> bool:
+        """Whether stalled runs restart (``restart_after > 0``; structure)."""
+        return self.static().restart_after > 0
 
     @property
     def uses_legs(self) -> bool:
         """Whether the search reads the per-leg blockers (:mod:`hga_jax.model.legs`)."""
-        return self.path_mutation != "none" or self.seeding > 0
+        return self.path_mutation != "none" or self.seeds
 
     def __post_init__(self) -> None:
         self.validate("<settings>")

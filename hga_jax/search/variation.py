@@ -105,7 +105,7 @@ def _genes(settings: GASettings):
 
 def _fresh_rows(n: int, settings: GASettings) -> int:
     """Rows before generation 0's leg words: ``2n + 2``, and 2 more with seeding."""
-    return 2 * n + 2 + (2 if settings.seeding > 0 else 0)
+    return 2 * n + 2 + (2 if settings.seeds else 0)
 
 
 def draw_rows(n: int, settings: GASettings) -> int:
@@ -142,16 +142,18 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     for module in () if settings is None else _genes(settings):
         first = _fresh_rows(n, settings)
         genes = leg_ops.genes_from_words(words[first:first + n + 2].T, module.weights)
-    if settings is None or settings.seeding <= 0 or n == 0:
+    if settings is None or not settings.seeds or n == 0:
         return perm, labels, genes
-    seeded = int(round(settings.seeding * perm.shape[0]))
     legs = _legs(sa)
-    keys = _keys(words[2 * n + 2:2 * n + 4, :seeded])
-    pos = positional(perm[:seeded], labels[:seeded], settings)
-    sp, sl = jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs))(keys, perm[:seeded],
-                                                                           pos)
+    keys = _keys(words[2 * n + 2:2 * n + 4])
+    pos = positional(perm, labels, settings)
+    sp, sl = jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs))(keys, perm, pos)
     sl = bound(sp, sl, settings)
-    return perm.at[:seeded].set(sp), labels.at[:seeded].set(sl), genes
+    # the first round(seeding * P) are seeded, each from its own column (inside the GA's
+    # step a count of the rates, data: settings.with_rates)
+    seeded = settings.__dict__.get("seeded", round(settings.seeding * perm.shape[0]))
+    on = (jnp.arange(perm.shape[0]) < seeded)[:, None]
+    return jnp.where(on, sp, perm), jnp.where(on, sl, labels), genes
 
 
 def _pairwise(rows, op, prob, a, b):
