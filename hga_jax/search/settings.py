@@ -195,6 +195,11 @@ class GASettings:
         :meth:`with_rates` was given."""
         return self.__dict__.get("_static", self)
 
+    def seeded_count(self) -> Any:
+        """How many individuals of a fresh population are seeded: ``round(seeding *
+        population)``, a Python int, or inside the step the count of its rates (data)."""
+        return self.__dict__.get("seeded", round(self.seeding * self.population))
+
     @property
     def seeds(self) -> bool:
         """Whether fresh populations are seeded (``seeding > 0``; structure)."""

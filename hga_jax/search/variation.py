@@ -149,10 +149,7 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     pos = positional(perm, labels, settings)
     sp, sl = jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs))(keys, perm, pos)
     sl = bound(sp, sl, settings)
-    # the first round(seeding * P) are seeded, each from its own column (inside the GA's
-    # step a count of the rates, data: settings.with_rates)
-    seeded = settings.__dict__.get("seeded", round(settings.seeding * perm.shape[0]))
-    on = (jnp.arange(perm.shape[0]) < seeded)[:, None]
+    on = (jnp.arange(perm.shape[0]) < settings.seeded_count())[:, None]  # each from its own column
     return jnp.where(on, sp, perm), jnp.where(on, sl, labels), genes
 
 
