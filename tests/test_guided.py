@@ -76,13 +76,15 @@ def test_guided_keeps_the_candidate_with_the_smallest_leg_score():
     keys = jax.random.split(rng.key(5), len(perm))
     out_p, out_l = jax.jit(jax.vmap(lambda k, p, lab: guided.guided(k, p, lab, legs)))(
         keys, perm, labels)
-    count = len(guided.MOVES) * guided.PER_MOVE
 
     @jax.jit
-    def candidates(key, p, lab):  # each candidate from its own key, scored
-        subkeys = jax.random.split(key, count)
-        made = [guided.MOVES[j // guided.PER_MOVE](subkeys[j], p, lab, legs)
-                for j in range(count)]
+    def candidates(key, p, lab):  # each candidate from its own words, in the documented order
+        w, made, at = path_ops._words(key, guided.WORDS), [], 0
+        for plan, count in path_ops.PLAN_WORDS:
+            for _ in range(guided.PER_MOVE):
+                made.append(path_ops.apply(p, lab, plan(w[at:at + count], p, lab, legs)))
+                at += count
+        assert at == guided.WORDS
         return made, jnp.stack([guided.leg_score(*m, legs) for m in made])
 
     differs = 0
@@ -97,6 +99,14 @@ def test_guided_keeps_the_candidate_with_the_smallest_leg_score():
         assert best in made or (made and scores[made[0]] <= scores[best] + 1e-5), i
         differs += len(set(np.round(scores, 5))) > 1
     assert differs > len(perm) // 2  # the candidates differ, so the choice is a real one
+
+
+def test_the_ga_reads_as_many_words_as_the_guided_move_takes():
+    from hga_jax.search import registry
+    from hga_jax.search.settings import RECOMMENDED
+
+    op = registry.entry("path_mutation", "guided")
+    assert op.rows(9, RECOMMENDED) == guided.WORDS == 26
 
 
 @pytest.mark.parametrize("plan", path_ops.PLANS, ids=lambda f: f.__name__)

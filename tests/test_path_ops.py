@@ -465,6 +465,35 @@ def test_wrap_blockers_leaves_no_blocked_leg_or_uses_n_steps(make):
     assert np.count_nonzero(l2[:, 1:-1], axis=1).mean() >= 2  # real paths, not direct ones
 
 
+@pytest.mark.parametrize("make", [lambda: load_scenario("configs/scenarios/robocup_paper.toml"),
+                                  _grid30,
+                                  lambda: load_scenario("configs/scenarios/overlapping.toml")],
+                         ids=["robocup", "grid30", "overlapping"])
+def test_wrap_blockers_is_n_repair_wraps_with_the_touched_obstacles_first(make):
+    """wrap_blockers is its definition, the repair's wrap (``_wrap_one``, which finds the
+    next touched circle of any chromosome) applied n times from the cleared labels, step
+    t on words 3t .. 3t + 2 of the key's 3n, and its chromosomes keep the touched
+    obstacles at the front of the permutation."""
+    sc = make()
+    legs, n = _legs(sc), sc.n
+    perm, labels = _random(n, 100, seed=7)
+
+    def by_definition(key, p, l):
+        w = path_ops._words(key, 3 * n)
+        pl = (p, l.at[1:-1].set(0))
+        for t in range(n):
+            pl = path_ops.apply(*pl, path_ops._wrap_one(w[3 * t:3 * t + 3], *pl, legs)[0])
+        return pl
+
+    p2, l2 = _run(path_ops.wrap_blockers, legs, perm, labels, seed=8)
+    p3, l3 = _run(lambda k, p, l, _: by_definition(k, p, l), legs, perm, labels, seed=8)
+    assert np.array_equal(p2, p3) and np.array_equal(l2, l3)
+    touched = l2[:, 1:-1] != 0
+    count = touched.sum(axis=1)
+    assert np.array_equal(touched, np.arange(n)[None, :] < count[:, None])
+    assert count.max() >= 2
+
+
 def test_wrap_blockers_on_overlapping_circles_wraps_when_the_direct_leg_is_blocked():
     """Overlapping model circles make missing tangents whose stand-ins cross their own
     circles, so blocked legs may remain after n steps; still, a blocked direct leg

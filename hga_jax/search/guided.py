@@ -117,23 +117,47 @@ def change(plan: Plan, perm: Array, labels: Array, ids: Array, touched: Array,
     return added - removed
 
 
-def guided(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
-    """The candidate move (``PER_MOVE`` of each of :data:`MOVES`, each from its own key
-    of ``split(key, 10)``, in that order) whose :func:`change` of the leg score is the
-    smallest."""
+WORDS = PER_MOVE * sum(count for _, count in path_ops.PLAN_WORDS)
+"""Random words (uint32) one guided move reads: its candidates', in :data:`PLANS` order."""
+
+
+def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
+    """The candidate move (``PER_MOVE`` of each of :data:`MOVES`, in that order, each
+    from its own words of ``w``, :data:`WORDS` in all) whose :func:`change` of the leg
+    score is the smallest (the first of equals).
+
+    The candidates' plans are made side by side, then scored one after another in a
+    loop whose body holds :func:`change` once (a smaller program than ten written-out
+    scores, as fast)."""
     if legs.length is None:
         raise ValueError("the guided move needs Legs with lengths (Scenario.search_arrays)")
-    keys = jax.random.split(key, len(PLANS) * PER_MOVE)
     found = path_ops.blocked_legs(perm, labels, legs)  # made once, for both repairs
+    plans, at = [], 0
+    for make, count in path_ops.PLAN_WORDS:
+        for _ in range(PER_MOVE):
+            extra = (found,) if make is path_ops._repair else ()
+            plans.append(make(w[at:at + count], perm, labels, legs, *extra))
+            at += count
+    ids, touched, wt = found[0], labels != 0, weights(legs)
 
-    def plan(j):
-        make = PLANS[j // PER_MOVE]
-        if make is path_ops.plan_repair:
-            return make(keys[j], perm, labels, legs, found)
-        return make(keys[j], perm, labels, legs)
+    def body(carry, plan):
+        score = change(plan, perm, labels, ids, touched, wt)
+        better = score < carry[0]
+        return (jnp.where(better, score, carry[0]),
+                Plan(*(jnp.where(better, a, b) for a, b in zip(plan, carry[1])))), None
 
-    plans = [plan(j) for j in range(len(keys))]
-    ids, touched = found[0], labels != 0
-    w = weights(legs)
-    best = jnp.argmin(jnp.stack([change(pl, perm, labels, ids, touched, w) for pl in plans]))
-    return path_ops.apply(perm, labels, path_ops.select(best, plans))
+    init = (jnp.asarray(jnp.inf, wt.dtype), plans[0])
+    stacked = Plan(*(jnp.stack(field) for field in zip(*plans)))
+    (_, best), _ = jax.lax.scan(body, init, stacked)
+    return path_ops.apply(perm, labels, best)
+
+
+def guided(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
+    """:func:`guided_one` on :data:`WORDS` words drawn from ``key``."""
+    return guided_one(path_ops._words(key, WORDS), perm, labels, legs)
+
+
+def guided_from_words(words: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
+    """The GA's form: :func:`guided_one` for a population, ``words`` (P, :data:`WORDS`)
+    the rows of the generation's draw, ``perm`` (P, n), positional ``labels`` (P, n + 2)."""
+    return jax.vmap(lambda w, p, l: guided_one(w, p, l, legs))(words, perm, labels)

@@ -69,12 +69,17 @@ def move_apply(perm: Array, labels: Array, j: Array, i: Array, label: Array) -> 
     the permutation), with label ``label``; the positions between shift by one."""
     n = perm.shape[-1]
     p = jnp.arange(n, dtype=jnp.int32)
-    src = jnp.where(p == i, j,
-                    jnp.where((j < i) & (p >= j) & (p < i), p + 1,
-                              jnp.where((j > i) & (p > i) & (p <= j), p - 1, p)))
-    mid = take(labels[1:-1], src)
-    mid = jnp.where(p == i, label, mid)
-    return take(perm, src), jnp.concatenate([labels[:1], mid, labels[-1:]])
+    up = (j < i) & (p >= j) & (p < i)  # take position p + 1's
+    down = (j > i) & (p > i) & (p <= j)  # take position p - 1's
+
+    def moved(x, at_i):  # x[src] for src = j at i, p + 1 where up, p - 1 where down, p
+        shift = jnp.where(up, jnp.concatenate([x[1:], x[-1:]]),
+                          jnp.where(down, jnp.concatenate([x[:1], x[:-1]]), x))
+        return jnp.where(p == i, at_i, shift)
+
+    mid = labels[1:-1]
+    return (moved(perm, take(perm, j[None])[0]),
+            jnp.concatenate([labels[:1], moved(mid, label), labels[-1:]]))
 
 
 class Plan(NamedTuple):
@@ -118,21 +123,21 @@ def keep(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Arra
     return perm, labels
 
 
-def plan_flip(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    """Reverse the label of one touched circle (start and goal included, unless the
-    legs hold the ends: a reversing car's ends are the end move's)."""
+# Each plan is written once, on its random words (uint32, as many as PLAN_WORDS says);
+# the plan of a key reads the words ``_words(key, count)`` (repair: two keys split from it).
+
+def _flip(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
     movable = labels != 0
     if legs is not None and getattr(legs, "ends", None) is not None:
         movable = movable.at[0].set(False).at[-1].set(False)
-    k, _ = _choose(movable, _words(key, 1)[0])
+    k, _ = _choose(movable, w[0])
     end = (k == 0) | (k == labels.shape[-1] - 1)
     return _plan(jnp.where(end, 0, k - 1), jnp.where(end, 0, k - 1),
                  jnp.where(end, labels[1], -take(labels, k[None])[0]), jnp.where(end, k, -1))
 
 
-def plan_drop(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    """Set the label of one touched obstacle to 0."""
-    k, any_ = _choose(labels[1:-1] != 0, _words(key, 1)[0])
+def _drop(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
+    k, any_ = _choose(labels[1:-1] != 0, w[0])
     return _plan(k, k, jnp.where(any_, 0, labels[1]))
 
 
@@ -145,21 +150,38 @@ def _relocation(j, i, label, ok, labels) -> Plan:
     return _plan(jnp.where(ok, j, 0), jnp.where(ok, i, 0), jnp.where(ok, label, labels[1]))
 
 
-def plan_insert(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    """Touch one untouched obstacle (random direction), moved to a random position."""
+def _insert(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
     n = perm.shape[-1]
-    w = _words(key, 3)
     j, any_ = _choose(labels[1:-1] == 0, w[0])
     return _relocation(j, int_from_words(w[1], 0, n), _sign(w[2]), any_, labels)
 
 
-def plan_shift(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    """Move one touched obstacle, with its label, to a random position (or-opt)."""
+def _shift(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
     n = perm.shape[-1]
-    w = _words(key, 2)
     j, any_ = _choose(labels[1:-1] != 0, w[0])
     return _relocation(j, int_from_words(w[1], 0, n), take(labels[1:-1], j[None])[0], any_,
                        labels)
+
+
+def plan_flip(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
+    """Reverse the label of one touched circle (start and goal included, unless the
+    legs hold the ends: a reversing car's ends are the end move's)."""
+    return _flip(_words(key, 1), perm, labels, legs)
+
+
+def plan_drop(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
+    """Set the label of one touched obstacle to 0."""
+    return _drop(_words(key, 1), perm, labels, legs)
+
+
+def plan_insert(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
+    """Touch one untouched obstacle (random direction), moved to a random position."""
+    return _insert(_words(key, 3), perm, labels, legs)
+
+
+def plan_shift(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
+    """Move one touched obstacle, with its label, to a random position (or-opt)."""
+    return _shift(_words(key, 2), perm, labels, legs)
 
 
 flip, drop, insert, shift = (_moves(f) for f in (plan_flip, plan_drop, plan_insert, plan_shift))
@@ -206,11 +228,10 @@ def next_touched(touched: Array) -> Array:
     return v
 
 
-def _wrap_one(key: Array, perm: Array, labels: Array, legs,
+def _wrap_one(w: Array, perm: Array, labels: Array, legs,
               found=None) -> tuple[Plan, Array]:
-    """``repair`` without its fallback: its plan and whether a leg was blocked
-    (``found``: :func:`blocked_legs` of the chromosome, if made already)."""
-    w = _words(key, 3)
+    """``repair`` without its fallback, from its three words: its plan and whether a leg
+    was blocked (``found``: :func:`blocked_legs` of the chromosome, if made already)."""
     ids, nxt_id, blocked = blocked_legs(perm, labels, legs) if found is None else found
     k, any_leg = _choose(blocked, w[0])
     a, c = ids[k], nxt_id[k]
@@ -225,13 +246,19 @@ def _wrap_one(key: Array, perm: Array, labels: Array, legs,
     return _relocation(j, jnp.where(j > q, q + 1, q), label, ok, labels), ok
 
 
+def _repair(w: Array, perm: Array, labels: Array, legs, found=None) -> Plan:
+    """Six words: the wrap's three, then the fallback insert's three."""
+    wrap, ok = _wrap_one(w[:3], perm, labels, legs, found)
+    other = _insert(w[3:], perm, labels)
+    return Plan(*(jnp.where(ok, a, b) for a, b in zip(wrap, other)))
+
+
 def plan_repair(key: Array, perm: Array, labels: Array, legs, found=None) -> Plan:
     """Wrap an obstacle that blocks a leg between the leg's circles (see module doc);
     ``found``: :func:`blocked_legs` of the chromosome, if made already."""
     k1, k2 = jax.random.split(key)
-    wrap, ok = _wrap_one(k1, perm, labels, legs, found)
-    other = plan_insert(k2, perm, labels)
-    return Plan(*(jnp.where(ok, a, b) for a, b in zip(wrap, other)))
+    w = jnp.concatenate([_words(k1, 3), _words(k2, 3)])
+    return _repair(w, perm, labels, legs, found)
 
 
 repair = _moves(plan_repair)
@@ -241,14 +268,37 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, 
     """A constructive path: from the direct path between the start and goal circles
     of ``labels`` (every obstacle label set to 0), wrap a blocking obstacle of a
     blocked leg, ``n`` times or until no leg is blocked (:func:`repair`'s step; it
-    reads legs only and decodes no path)."""
+    reads legs only and decodes no path).
+
+    Each wrap puts its obstacle right after the leg's first circle, so the touched
+    obstacles are always the first ``L`` of the permutation, in path order: a leg runs
+    from position ``k`` to ``k + 1`` (from ``L`` to the goal), and a step costs O(n),
+    not the O(n^2) of finding the next touched circle of any chromosome (the same
+    chromosomes as :func:`_wrap_one` applied ``n`` times, step ``t`` reading words
+    ``3t .. 3t + 2`` of ``3n`` drawn from ``key``)."""
     n = perm.shape[-1]
+    s = n + 2
     labels = labels.at[1:-1].set(0)
+    pos = jnp.arange(s, dtype=jnp.int32)
+    table, blockers = jnp.asarray(legs.blocked), jnp.asarray(legs.blockers)
+    words = _words(key, 3 * n)
 
-    def body(t, pl):
-        return apply(*pl, _wrap_one(jax.random.fold_in(key, t), *pl, legs)[0])
+    def body(t, carry):
+        perm, labels, count = carry
+        w = jax.lax.dynamic_slice_in_dim(words, 3 * t, 3)
+        ids, _ = path_circles(perm, labels)
+        nxt = jnp.where(pos < count, jnp.concatenate([ids[1:], ids[-1:]]), ids[-1])
+        k, any_leg = _choose(table[ids, nxt] & (pos <= count), w[0])
+        o, _ = _choose(blockers[take(ids, k[None])[0], take(nxt, k[None])[0]], w[1])
+        j = jnp.argmax(perm == o).astype(jnp.int32)  # o's position
+        q = k - 1  # the leg's first circle, as a permutation position (-1: the start)
+        ok = any_leg & (j != q)
+        plan = _relocation(j, jnp.where(j > q, q + 1, q), _sign(w[2]), ok, labels)
+        perm, labels = apply(perm, labels, plan)
+        return perm, labels, count + (ok & (j >= count)).astype(jnp.int32)
 
-    return jax.lax.fori_loop(0, n, body, (perm, labels))
+    perm, labels, _ = jax.lax.fori_loop(0, n, body, (perm, labels, jnp.int32(0)))
+    return perm, labels
 
 
 def plan_mixed(key: Array, perm: Array, labels: Array, legs) -> Plan:
@@ -268,5 +318,8 @@ def select(which: Array, plans) -> Plan:
 
 PLANS = (plan_flip, plan_drop, plan_insert, plan_shift, plan_repair)
 """The plans of the five moves, in the order ``mixed`` and ``guided`` draw them."""
+
+PLAN_WORDS = ((_flip, 1), (_drop, 1), (_insert, 3), (_shift, 2), (_repair, 6))
+"""The plans of :data:`PLANS` from their random words, and how many each reads."""
 
 mixed = _moves(plan_mixed)

@@ -34,17 +34,18 @@ How often an operator applies is the GA's business (``pc_*``, ``pm_upper``,
 
 The random stream: generation ``g`` of a run draws one block of uint32 words
 (``hga_jax.search.ga.draw_rows``); each operator reads its own rows of it. The
-built-in selections and label mutation read words directly (``from_words``, their
-rows given by ``rows(n, settings)``), so the stream of every built-in setting is
-the one it always was. Every other operator gets its keys from two rows of words
+built-in selections, label mutation and guided path move read words directly
+(``from_words``, their rows given by ``rows(n, settings)``), so the stream of every
+built-in setting is the one it always was (the guided move's since hga-jax 0.5: its
+26 words, the ten candidates' own). Every other operator gets its keys from two rows of words
 (one key per pair or individual; selection one key per run, from the rows' first
-column). Crossovers, permutation mutations and path moves, built in or registered,
-all read one do-word row and two key rows, so a registered one in their place reads
-the very words the built-in would (with ``pc_upper = 0`` it is the built-in's run).
-A registered selection or label mutation reads two key rows in place of the
-built-in's own (1 or ``tournament_size``; ``n + 2``): the block's size, and with it
-every word of the block (threefry's original layout), may change. Settings that name
-no registered operator draw exactly the words they always did.
+column). Crossovers, permutation mutations and the other path moves, built in or
+registered, all read one do-word row and two key rows, so a registered one in their
+place reads the very words the built-in would (with ``pc_upper = 0`` it is the
+built-in's run). A registered selection, label mutation or path move reads two key
+rows in place of the built-in's own (1 or ``tournament_size``; ``n + 2``; 26): the
+block's size, and with it every word of the block (threefry's original layout), may
+change. Settings that name no registered operator draw exactly the words they always did.
 
 Registered names are identifiers, fixed while in use: compiled programs are cached
 by settings, so a name must keep meaning the same function (:func:`unregister`
@@ -69,8 +70,9 @@ class Operator:
     GASettings fields passed to ``fn`` (and ``from_words``) as keywords.
     ``from_words``: a built-in's word-reading form, for a whole population:
     selection ``from_words(words, fitness)``, label mutation
-    ``from_words(words, labels, rate)``, ``words`` the ``rows(n, settings)`` rows of
-    the generation's draw, transposed to (P, rows).
+    ``from_words(words, labels, rate)``, path move ``from_words(words, perm, labels,
+    legs)``, ``words`` the ``rows(n, settings)`` rows of the generation's draw,
+    transposed to (P, rows).
     """
 
     kind: str
@@ -203,7 +205,7 @@ BUILTINS = (
     ("path_mutation", "none", "path_ops", "keep", None, None),
     *(("path_mutation", name, "path_ops", name, None, None)
       for name in ("flip", "drop", "insert", "shift", "repair", "mixed")),
-    ("path_mutation", "guided", "guided", "guided", None, None),
+    ("path_mutation", "guided", "guided", "guided", "guided_from_words", lambda n, s: 26),
     ("leg_crossover", "two_point", "leg_ops", "two_point", None, None),
     ("leg_mutation", "redraw", "leg_ops", "redraw", "redraw_from_words", lambda n, s: n + 2),
     ("end_mutation", "none", "end_ops", "keep", None, None),

@@ -62,7 +62,9 @@ def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
 # generation 0 the words of its permutations (n rows) and labels (n + 2 rows); a later
 # generation its selection's words (built-ins: 1 row, or ``tournament_size``), then a
 # do-word and two key words per pair (crossovers) or individual (mutations), then the
-# label mutation's words (the built-in redraw: one word per label gene). Pair rows use
+# label mutation's words (the built-in redraw: one word per label gene), then the path
+# move's do-word and its words (the guided move: 26, its ten candidates' own; the other
+# moves: two key words). Pair rows use
 # their first P // 2 columns. Free turns add rows after all of these: generation 0 the
 # words of its leg genes (n + 2), a later generation the leg crossover's (3) and the leg
 # mutation's (one word per gene); the tight rope draws the words it always did. Operators without a word-reading form (registry.Operator)
@@ -81,7 +83,7 @@ def _layout(n: int, settings: GASettings) -> dict[str, tuple[int, int]]:
              ("cross_upper", 3), ("mutate_upper", 3), ("cross_lower", 3),
              ("mutate_lower", _word_rows("label_mutation", n, settings)))
     if settings.path_mutation != "none":
-        parts += (("mutate_path", 3),)
+        parts += (("mutate_path", 1 + _word_rows("path_mutation", n, settings)),)
     for genes in _genes(settings):
         parts += ((f"cross_{genes.name}", 3),
                   (f"mutate_{genes.name}", _word_rows(genes.mutation, n, settings)))
@@ -217,9 +219,12 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
             ends = ends | tail
     if settings.path_mutation != "none" and n >= 1:
         m, legs = rows("mutate_path"), _legs(sa, settings)
-        move = registry.get("path_mutation", settings.path_mutation)
+        move = registry.entry("path_mutation", settings.path_mutation)
         pos = positional(perm, labels, settings)
-        mp, ml = jax.vmap(lambda k, p, l: move(k, p, l, legs))(_keys(m[1:]), perm, pos)
+        if move.from_words is not None:  # a built-in reads its own rows of words
+            mp, ml = move.from_words(m[1:].T, perm, pos, legs)
+        else:
+            mp, ml = jax.vmap(lambda k, p, l: move.fn(k, p, l, legs))(_keys(m[1:]), perm, pos)
         do = (unit(m[0]) < settings.pm_path)[:, None]
         if ends is not None:  # a child moved at its ends gets no path move
             do = do & ~ends
