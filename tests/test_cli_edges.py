@@ -78,17 +78,21 @@ def test_study_output_folder_rules(tmp_path, capsys):
     assert main(["study", path, "--quick", "--out", str(a_file), "--quiet"]) == 2
     assert "exists and is a file, not a folder" in _err_lines(capsys)[0]
     out = tmp_path / "study_out"
-    assert main(["study", path, "--quick", "--out", str(out), "--quiet"]) == 0
+    assert main(["study", path, "--quick", "--out", str(out), "--quiet", "--no-figures"]) == 0
     said = capsys.readouterr().out
     assert "1 run now" in said and "|" not in said and "hit rate" not in said  # no table
     assert said.rstrip().endswith(f"the tests and the notes: {out / 'summary.md'}")
+    assert not (out / "figures").exists()  # --no-figures: the tables only, and says so
+    assert json.loads((out / "study.json").read_text())["figures"] is False
     assert main(["study", path, "--quick", "--out", str(out), "--quiet"]) == 0  # resumed
     assert "(0 run now, 1 already done)" in capsys.readouterr().out
+    assert json.loads((out / "study.json").read_text())["figures"] is True
+    assert (out / "figures" / "hit_rate.png").read_bytes()[:4] == b"\x89PNG"  # drawn now
     # the full study is another study: refused, then replaced with --force
     assert main(["study", path, "--out", str(out), "--quiet"]) == 2
     (line,) = _err_lines(capsys)
     assert "holds another study (study 's' (--quick))" in line and "--force" in line
-    assert main(["study", path, "--out", str(out), "--quiet", "--force"]) == 0
+    assert main(["study", path, "--out", str(out), "--quiet", "--force", "--no-figures"]) == 0
     assert "(2 run now, 0 already done)" in capsys.readouterr().out
     assert json.loads((out / "study.json").read_text())["quick"] is False
     assert len(os.listdir(out / "cells")) == 2
@@ -145,9 +149,9 @@ def test_an_interrupted_study_says_what_it_kept(tmp_path, capsys, monkeypatch):
     out = tmp_path / "out"
     with monkeypatch.context() as m:
         m.setattr(solvers, "run_cell", run_cell)
-        assert main(["study", str(path), "--out", str(out), "--quiet"]) == 130
+        assert main(["study", str(path), "--out", str(out), "--quiet", "--no-figures"]) == 130
     (line,) = _err_lines(capsys)
     assert line == (f"hga-jax: interrupted; 1 of 2 cells finished and written in {out}/cells "
                     "(1 this time): the same command resumes there")
-    assert main(["study", str(path), "--out", str(out), "--quiet"]) == 0
+    assert main(["study", str(path), "--out", str(out), "--quiet", "--no-figures"]) == 0
     assert "(1 run now, 1 already done)" in capsys.readouterr().out

@@ -319,7 +319,8 @@ def test_a_study_can_take_the_free_turn_optimum_as_its_yardstick(tmp_path):
     text = ('name = "free_yard"\nseed = 1\nruns = 3\nscenarios = ["loop.toml"]\n'
             'yardstick = "free"\n[ga]\ngenerations = 3\n[[configs]]\nlabel = "paper"\n')
     (tmp_path / "s.toml").write_text(text)
-    out = run_study(str(tmp_path / "s.toml"), out=str(tmp_path / "o"), progress=False)
+    out = run_study(str(tmp_path / "s.toml"), out=str(tmp_path / "o"), progress=False,
+                    figures=False)
     assert out.cells_run == 1
     md = (tmp_path / "o" / "summary.md").read_text()
     assert "free-turn optimum" in md
@@ -328,7 +329,8 @@ def test_a_study_can_take_the_free_turn_optimum_as_its_yardstick(tmp_path):
     tight = solve(scenario_from_dict(d, "loop")).length
     assert cell["yardstick"] == "free" and cell["tight_rope_optimum"] == pytest.approx(tight)
     assert cell["optimum"] < 0.7 * tight and not any(cell["columns"]["hit"])
-    assert run_study(str(tmp_path / "s.toml"), out=str(tmp_path / "o"), progress=False).cells_run == 0
+    assert run_study(str(tmp_path / "s.toml"), out=str(tmp_path / "o"), progress=False,
+                     figures=False).cells_run == 0
     (tmp_path / "bad.toml").write_text(text.replace('"free"', '"loose"'))
     with pytest.raises(ConfigError, match=r"bad\.toml: yardstick: must be one of"):
         load_study(str(tmp_path / "bad.toml"))

@@ -480,10 +480,11 @@ def test_wrap_blockers_is_n_repair_wraps_with_the_touched_obstacles_first(make):
 
     def by_definition(key, p, l):
         w = path_ops._words(key, 3 * n)
-        pl = (p, l.at[1:-1].set(0))
-        for t in range(n):
-            pl = path_ops.apply(*pl, path_ops._wrap_one(w[3 * t:3 * t + 3], *pl, legs)[0])
-        return pl
+
+        def body(t, pl):
+            return path_ops.apply(*pl, path_ops._wrap_one(
+                jax.lax.dynamic_slice_in_dim(w, 3 * t, 3), *pl, legs)[0])
+        return jax.lax.fori_loop(0, n, body, (p, l.at[1:-1].set(0)))
 
     p2, l2 = _run(path_ops.wrap_blockers, legs, perm, labels, seed=8)
     p3, l3 = _run(lambda k, p, l, _: by_definition(k, p, l), legs, perm, labels, seed=8)

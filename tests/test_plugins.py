@@ -125,7 +125,7 @@ def test_study_plugins_are_relative_to_the_study_file(tmp_path, plugins, capsys)
     cfg = tmp_path / "plugged.toml"
     cfg.write_text(STUDY.replace("{scene}", ROBOCUP))
     assert main(["study", str(cfg), "--out", str(tmp_path / "out"), "--quiet",
-                 "--no-cache"]) == 0
+                 "--no-cache", "--no-figures"]) == 0
     with open(tmp_path / "out" / "runs.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     mine = [r for r in rows if r["config"] == "perm_crossover=one_point_order"]

@@ -161,7 +161,7 @@ def test_a_study_with_every_solver_judges_ompl_paths_by_the_model(tmp_path):
         assert name in md
     for fig in ("anytime.png", "time_ecdf.png"):
         assert os.path.getsize(os.path.join(out.folder, "figures", fig)) > 10_000
-    again = run_study(path, out=str(tmp_path / "out"), progress=False)
+    again = run_study(path, out=str(tmp_path / "out"), progress=False, figures=False)
     assert again.cells_run == 0 and again.cells_reused == len(out.docs)
 
 
@@ -171,7 +171,7 @@ def test_a_peer_whose_package_is_missing_is_skipped_in_one_line(tmp_path, monkey
     monkeypatch.setattr(peers, "NEEDS", {"deap": "no_such_package_hga_jax_test",
                                          "ompl": "no_such_package_hga_jax_test"})
     path = _peer_study(tmp_path, ga=False)  # no GA: nothing to compile
-    out = run_study(path, out=str(tmp_path / "out"), progress=False)
+    out = run_study(path, out=str(tmp_path / "out"), progress=False, figures=False)
     assert set(out.skipped) == {"DEAP", "BIT*"}
     err = [line for line in capsys.readouterr().err.splitlines() if "skipped" in line]
     assert err == ["skipped 'DEAP', 'BIT*': no_such_package_hga_jax_test is not installed "

@@ -223,7 +223,7 @@ def test_a_killed_study_resumes_without_losing_or_repeating(tmp_path):
     assert 2 <= len(before) < 8, "the study should have been killed mid-way"
     assert not (out / "runs.csv").exists()
 
-    outcome = run_study(str(cfg), out=str(out), progress=False)
+    outcome = run_study(str(cfg), out=str(out), progress=False, figures=False)
     assert (outcome.cells_reused, outcome.cells_run) == (len(before), 8 - len(before))
     for p, data in before.items():  # finished cells were neither re-run nor rewritten
         assert (cells / p).read_bytes() == data and os.stat(cells / p).st_mtime_ns == stamps[p]
@@ -235,7 +235,7 @@ def test_a_killed_study_resumes_without_losing_or_repeating(tmp_path):
         doc = json.loads(data)
         mine = [r for r in rows if r["scenario"] == doc["scenario"]]
         assert [float(r["length"]) for r in mine] == doc["columns"]["length"]
-    again = run_study(str(cfg), out=str(out), progress=False)
+    again = run_study(str(cfg), out=str(out), progress=False, figures=False)
     assert again.cells_run == 0 and len(again.table) == 8 * 40
     assert _csv(out / "runs.csv") == rows
 

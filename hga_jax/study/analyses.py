@@ -47,9 +47,8 @@ def _median_int(values) -> str:
         if v else "never"
 
 
-def paper(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
-    ref = study.configs[0].label
-    doc = next(d for d in docs if d["config"] == ref)
+def _paper_figures(doc, ref: str, folder: str) -> list[str]:
+    """The analogues of the paper's Fig. 4 and Fig. 5 (module doc)."""
     sc = load_scenario(doc["scenario_file"])
     files = []
     best = doc["best"]
@@ -84,6 +83,13 @@ def paper(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     fig.suptitle(f"{sc.name}: fitness over generations ({ref})", fontsize=10)
     files.append(save(fig, os.path.join(folder, "figures", "paper_fig5_fitness.png")))
 
+    return files
+
+
+def paper(study, tab: pd.DataFrame, docs, rows, folder: str, draw: bool = True) -> list[str]:
+    ref = study.configs[0].label
+    doc = next(d for d in docs if d["config"] == ref)
+    files = _paper_figures(doc, ref, folder) if draw else []
     out = []
     family, config = tab["family"].to_numpy(), tab["config"].to_numpy()
     for group in dict.fromkeys(family.tolist()):
@@ -125,7 +131,7 @@ def paper(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     return files + [os.path.join(folder, n) for n in ("paper_claims.csv", "paper_claims.md")]
 
 
-def penalty(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
+def penalty(study, tab: pd.DataFrame, docs, rows, folder: str, draw: bool = True) -> list[str]:
     out = []
     feasible = tab["feasible"].to_numpy(bool)
     colliding = tab["violations_full"].to_numpy(int) > 0
@@ -157,7 +163,7 @@ def penalty(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     return [os.path.join(folder, "penalty.csv"), os.path.join(folder, "penalty.md")]
 
 
-def scaling(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
+def scaling(study, tab: pd.DataFrame, docs, rows, folder: str, draw: bool = True) -> list[str]:
     """Per configuration, scene family and obstacle count: hit rate (95% Wilson),
     feasible share, median and 90th-percentile gap (infeasible runs count as an
     infinite gap), evaluations per run, to the hit (median over hits) and by which
@@ -199,6 +205,9 @@ def scaling(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     write_csv(os.path.join(folder, "scaling.csv"), pd.DataFrame(out), missing="nan")
     text = _scaling_markdown(out)
     write_file(os.path.join(folder, "scaling.md"), lambda fh: fh.write(text))
+    files = [os.path.join(folder, "scaling.csv"), os.path.join(folder, "scaling.md")]
+    if not draw:
+        return files
     # Colour: the configuration; line and marker: the family; one legend below both panels.
     fams = list(dict.fromkeys(r["family"] for r in out))
     style = {f: (("-", "o"), ("--", "^"), ("-.", "s"), (":", "D"))[i % 4] for i, f in enumerate(fams)}
@@ -232,9 +241,7 @@ def scaling(study, tab: pd.DataFrame, docs, rows, folder: str) -> list[str]:
     extra = a2.get_legend_handles_labels()
     fig.legend(handles[0] + extra[0], handles[1] + extra[1], loc="outside lower center",
                ncol=3, fontsize=7, frameon=False)
-    files = [save(fig, os.path.join(folder, "figures", "scaling.png")),
-             os.path.join(folder, "scaling.csv"), os.path.join(folder, "scaling.md")]
-    return files
+    return [save(fig, os.path.join(folder, "figures", "scaling.png"))] + files
 
 
 def _scaling_markdown(out: list[dict]) -> str:

@@ -36,6 +36,8 @@ def _options(p: argparse.ArgumentParser) -> None:
                    "line saying what ran and where the summary is")
     p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs "
                    "on disk")
+    p.add_argument("--no-figures", action="store_true", help="write the tables, not the "
+                   "figures (seconds per report; the same command without it draws them)")
     devices.add_option(p)
 
 
@@ -52,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
 
         validation.at_least(args.scenes, "command line", "--scenes", 1)
     outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,
-                        progress=not args.quiet, force=args.force)
+                        progress=not args.quiet, force=args.force,
+                        figures=not args.no_figures)
     import os
     import shutil
 

@@ -26,8 +26,8 @@ SAVES = 0.01
 
 
 def reversing(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any,
-              folder: str) -> list[str]:
-    """The table of the module doc; its files."""
+              folder: str, draw: bool = True) -> list[str]:
+    """The table of the module doc; its files (it draws no figure)."""
     scenes: dict[tuple[str, int], dict[str, dict]] = {}
     for d in docs:
         details = d.get("optimum_details") or {}

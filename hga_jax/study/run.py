@@ -167,10 +167,12 @@ def _remove(folder: str, files: list[str]) -> None:
 
 def run_study(path: str | Study, *, quick: bool = False, out: str | None = None,
               progress: bool | None = None, max_cells: int | None = None,
-              scenes: int | None = None, force: bool = False) -> Outcome:
+              scenes: int | None = None, force: bool = False,
+              figures: bool = True) -> Outcome:
     """Run (or resume) the study file ``path``; ``max_cells`` stops after that many new
     cells (the tables then cover the finished ones); ``scenes`` runs only the first
-    scenes of each family (see :func:`load_study`)."""
+    scenes of each family (see :func:`load_study`); ``figures=False`` writes the tables
+    without the figures (the study's manifest says so)."""
     study = path if isinstance(path, Study) else load_study(path, quick, scenes)
     skip = skipped(study)
     if skip:
@@ -216,11 +218,12 @@ def run_study(path: str | Study, *, quick: bool = False, out: str | None = None,
     bar.close()
     docs = [store.load(cid) for _, _, cid in plan if store.done(cid)]
     return _report(study, folder, scenes, plan, docs, ran, time.perf_counter() - t0,
-                   skip, note)
+                   skip, note, figures)
 
 
 def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int,
-            seconds: float, skip: dict[str, str], note: str | None) -> Outcome:
+            seconds: float, skip: dict[str, str], note: str | None,
+            draw: bool = True) -> Outcome:
     labels = [c.label for c in study.configs]
     files: list[str] = []
     tab = table.build(study.name, docs)
@@ -243,11 +246,12 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
                         missing="nan")
         files += [j(n) for n in ("runs.csv", "runs.parquet", "runs.jsonl", "summary.csv",
                                  "summary.parquet", "summary.md", "by_scene.csv")]
-        files += figures.all_figures(tab, docs, rows, labels, j("figures"))
+        if draw:
+            files += figures.all_figures(tab, docs, rows, labels, j("figures"))
         from . import analyses
 
         for name in study.analyses:
-            files += analyses.ANALYSES[name](study, tab, docs, rows, folder)
+            files += analyses.ANALYSES[name](study, tab, docs, rows, folder, draw)
     manifest = os.path.join(folder, STUDY_FILE)
     write_json(manifest, json_safe({
         "versions": versions(),
@@ -256,7 +260,7 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
         "scenes": [{"name": s.name, "family": s.family, "file": s.path} for s in scenes],
         "cells": len(plan), "cells_finished": len(docs), "cells_run_now": ran,
         "skipped": skip, "note": note,
-        "seconds_now": seconds, "files": files,
+        "seconds_now": seconds, "figures": draw and bool(docs), "files": files,
     }))
     return Outcome(folder, study, tab, rows, docs, ran, len(docs) - ran, files + [manifest],
                    skip)
