@@ -127,8 +127,9 @@ def test_the_folder_keeps_its_size_by_dropping_the_least_recently_used(folder, m
 
 def test_configurations_differing_in_rates_run_one_program(folder, monkeypatch):
     """Rates, the penalty weight, the seeding share and the restart interval are data of
-    the compiled GA (GASettings.rates): a second configuration that differs only in them
-    compiles nothing, and its runs are those it makes with a program of its own."""
+    the compiled GA (GASettings.rates), and settings the car model does not read are not
+    part of it: a second configuration that differs only in them compiles nothing, and
+    its runs are those it makes with a program of its own."""
     from hga_jax.host.config import load_scenario
     from hga_jax.running import runner
     from hga_jax.search.settings import PAPER
@@ -151,6 +152,12 @@ def test_configurations_differing_in_rates_run_one_program(folder, monkeypatch):
     ra = runner.run_many(sc, a, runs=6, seed=3, exact=False)
     rb = runner.run_many(sc, b, runs=6, seed=3, exact=False)
     assert lowered.count("ga-block") == 1  # one GA program for both
+    # the end move's settings belong to the reversing car: under the tight rope they
+    # change nothing, so the program is a's and so are the runs
+    rc = runner.run_many(sc, a.replace(end_mutation="none", ends_of_best=3), runs=6, seed=3,
+                         exact=False)
+    assert lowered.count("ga-block") == 1
+    np.testing.assert_array_equal(rc.labels, ra.labels)
     compiled.forget()
     compiled.use_folder(None)  # b compiled for itself, nothing found again
     alone = runner.run_many(sc, b, runs=6, seed=3, exact=False)

@@ -180,19 +180,19 @@ def test_run_command_with_free_turns_writes_leg_genes(tmp_path, capsys):
     from hga_jax.host.report import redraw
     from hga_jax.study.scenes import to_toml
 
-    d = pose_scene((0.0, 0.0, 0.0), (0.1, 0.05, math.pi), obstacles=[
-        {"x": -0.3, "y": 0.35, "radius": 0.05}, {"x": 0.6, "y": 0.0, "radius": 0.05}])
-    path = tmp_path / "loop.toml"
-    path.write_text(to_toml(d))
+    from hga_jax.host.config import scenario_to_dict
+
+    path = tmp_path / "loop.toml"  # the scene and runs of the test above: its program
+    path.write_text(to_toml(scenario_to_dict(_loop_scene())))
     out = tmp_path / "run"
-    assert main(["run", str(path), "--turns", "free", "--runs", "6", "--out", str(out),
+    assert main(["run", str(path), "--turns", "free", "--runs", "20", "--out", str(out),
                  "--quiet"]) == 0
     printed = capsys.readouterr().out
     assert "free-turn optimum" in printed and "free turns: leg genes" in printed
     data = json.loads((out / "result.json").read_text())
     assert data["settings"]["turns"] == "free" and data["optimum"]["turns"] == "free"
     best = data["best"]
-    assert len(best["legs"]) == 4 and all(len(r["legs"]) == 4 for r in data["per_run"])
+    assert len(best["legs"]) == 5 and all(len(r["legs"]) == 5 for r in data["per_run"])
     assert data["summary"]["hit_rate"] == 1.0
     assert [s for s in best["segments"] if s.get("free")]
     fig = redraw(str(out / "result.json"), run=data["per_run"][0]["run"])

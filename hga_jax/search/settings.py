@@ -90,6 +90,9 @@ class Rates(NamedTuple):
     penalty_weight: Any
     seeded: Any
     restart_after: Any
+MODEL_FIELDS = ("leg_crossover", "leg_mutation", "end_mutation", "ends_of_best")
+"""Settings that only a car model with genes of its own reads (:attr:`GASettings.model`):
+under another model they do not change the program (:meth:`GASettings.structure`)."""
 BUDGET_BASE = 9
 """Obstacles (the paper's scene) up to which ``generations_per_obstacle`` adds nothing."""
 PRECISIONS = ("float32", "float64")
@@ -174,11 +177,18 @@ class GASettings:
 
     def structure(self) -> "GASettings":
         """These settings without their :data:`RATES` (probabilities 0, weight 1;
-        ``seeding`` and ``restart_after`` 1 where on, else 0): what a compiled program
-        depends on, and its identity."""
+        ``seeding`` and ``restart_after`` 1 where on, else 0) and with the defaults of
+        the :data:`MODEL_FIELDS` that their car model does not read: what a compiled
+        program depends on, and its identity."""
+        genes = self.model.genes
+        used = {name for g in genes for name in (g.crossover, g.mutation, g.ends) if name}
+        if any(g.ends for g in genes):
+            used.add("ends_of_best")
+        idle = {f.name: f.default for f in dataclasses.fields(self)
+                if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
             self, **{k: 0.0 for k in RATES[:8]}, penalty_weight=1.0,
-            seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0))
+            seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0), **idle)
 
     def with_rates(self, rates: Rates) -> "GASettings":
         """These settings (a structure) with the :data:`RATES` of ``rates`` (traced
