@@ -40,8 +40,9 @@ keep_inside = true
 
 def test_run_writes_result_history_and_plots(tmp_path, capsys):
     out = tmp_path / "res"
-    code = main(["run", ROBOCUP, "--runs", "6", "--generations", "8", "--seed", "5",
-                 "--out", str(out), "--plot", "--quiet"])
+    # the README's Python example's runs and settings (one program for both)
+    code = main(["run", ROBOCUP, "--runs", "200", "--seed", "5", "--out", str(out), "--plot",
+                 "--quiet"])
     assert code == 0
     printed = capsys.readouterr().out
     assert "best length" in printed and "compile" in printed and "search" in printed
@@ -49,14 +50,14 @@ def test_run_writes_result_history_and_plots(tmp_path, capsys):
     best = data["best"]
     assert data["scenario"]["name"] == data["scenario_name"] == "robocup_paper"
     assert data["seed"] == 5
-    assert data["settings"]["generations"] == 8 and data["settings"]["population"] == 50
+    assert data["settings"]["generations"] == 50 and data["settings"]["population"] == 50
     assert {"jax", "hga_jax"} <= set(data["versions"])
-    assert len(data["per_run"]) == 6
+    assert len(data["per_run"]) == 200
     assert best["length"] == min(r["length"] for r in data["per_run"] if r["feasible"])
     assert segments_length(best["segments"]) == pytest.approx(best["length"], rel=1e-9)
     assert best["upper"][0] == 0 and best["upper"][-1] == 10 and len(best["lower"]) == 11
     rows = list(csv.DictReader((out / "history.csv").open()))
-    assert len(rows) == 9 and rows[0]["generation"] == "0"
+    assert len(rows) == 51 and rows[0]["generation"] == "0"
     assert float(rows[-1]["best_so_far_fitness_median"]) >= float(rows[0]["best_so_far_fitness_median"])
     for png in ("path.png", "convergence.png"):
         assert (out / png).stat().st_size > 10_000
