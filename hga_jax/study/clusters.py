@@ -47,15 +47,18 @@ MIN_GAP = 0.3  # any two centres at least this times the sum of their model radi
 MAX_TRIES = 2000
 
 
-def _field(rng: np.random.Generator, n: int) -> tuple[float, float]:
-    area = max(n / rng.uniform(*DENSITY), MIN_AREA)
-    aspect = rng.uniform(*ASPECT)
+def field_size(rng: np.random.Generator, n: int, density=DENSITY, aspect=ASPECT,
+               min_area: float = MIN_AREA) -> tuple[float, float]:
+    """A field's width and height (m) for ``n`` obstacles: a density and an aspect ratio
+    drawn uniformly from their ranges, the long side along x or y at random."""
+    area = max(n / rng.uniform(*density), min_area)
+    aspect = rng.uniform(*aspect)
     long, short = math.sqrt(area * aspect), math.sqrt(area / aspect)
     return (long, short) if rng.random() < 0.5 else (short, long)
 
 
-def _poses(rng: np.random.Generator, w: float, h: float, room: float
-           ) -> tuple[list[float], list[float]]:
+def poses(rng: np.random.Generator, w: float, h: float, room: float
+          ) -> tuple[list[float], list[float]]:
     """Start and goal near opposite ends (or corners), ``room`` to ``room + 0.3`` from
     the near edges; the ends along the long side, or a diagonal, at random."""
     def near(lo_end: bool, size: float) -> float:
@@ -146,8 +149,8 @@ def generate(n: int, seed: int, index: int, name: str, density: float | None = N
     rng = np.random.default_rng([seed, n, index, STREAM])
     for _ in range(MAX_TRIES):
         r, rho = rng.uniform(*ROBOT_RADIUS), rng.uniform(*TURN_RADIUS)
-        w, h = _field(rng, n)
-        start, goal = _poses(rng, w, h, r + rho)
+        w, h = field_size(rng, n)
+        start, goal = poses(rng, w, h, r + rho)
         placed = _place(rng, n, w, h, r, rho, start, goal)
         if placed is None:
             continue

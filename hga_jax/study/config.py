@@ -58,9 +58,10 @@ TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses"
        "families", "configs", "quick", "yardstick", "cpu_devices"}
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density", "car"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
-KINDS = ("clutter", "obstructed", "clusters", "loops", "cluster_loops", "behind", "slot",
-         "wall")
-"""Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters`, for free
+KINDS = ("clutter", "obstructed", "clusters", "scattered", "loops", "cluster_loops", "behind",
+         "slot", "wall")
+"""Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters`,
+:mod:`~hga_jax.study.scattered`, for free
 turns :mod:`~hga_jax.study.loops` and, for the Reeds–Shepp car, the parking-like
 :mod:`~hga_jax.study.parking`."""
 ANALYSES = ("paper", "penalty", "scaling", "reversing")
@@ -169,7 +170,7 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
     key = "quick.obstacles" if "obstacles" in quick else f"{where}.obstacles"
     if not isinstance(obs, list) or not obs:
         raise _err(source, key, f"must be a non-empty list of integers, got {obs!r}")
-    least = 3 if t["kind"] in ("obstructed", "clusters") else 1
+    least = 3 if t["kind"] in ("obstructed", "clusters") else 2 if t["kind"] == "scattered" else 1
     obs = tuple(_int(n, source, key, least, 1001) for n in obs)
     scenes = _int(quick.get("scenes", t.get("scenes", 1)), source, f"{where}.scenes", 1, 10_001)
     density = t.get("density")
@@ -177,9 +178,10 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
                                 or not 0 < density < 20):
         raise _err(source, f"{where}.density", f"must be a number in (0, 20) obstacles per "
                    f"square metre, got {density!r}")
-    if density is not None and t["kind"] == "clusters":
-        raise _err(source, f"{where}.density", "not used by kind clusters (each scene draws "
-                   "its own, 0.8 to 2.0 obstacles per square metre); remove it")
+    if density is not None and t["kind"] in ("clusters", "scattered"):
+        low, high = {"clusters": (0.8, 2.0), "scattered": (0.6, 2.5)}[t["kind"]]
+        raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (each scene draws "
+                   f"its own, {low} to {high} obstacles per square metre); remove it")
     if density is not None and t["kind"] in ("loops", "cluster_loops", "behind", "slot",
                                              "wall"):
         raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (its fields "

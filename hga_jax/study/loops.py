@@ -57,7 +57,7 @@ def draw(kind: str, rng: np.random.Generator, n: int, name: str) -> dict | None:
         w, h = scene_files.FIELD_W, scene_files.FIELD_H
     else:
         r, rho = rng.uniform(*clusters.ROBOT_RADIUS), rng.uniform(*clusters.TURN_RADIUS)
-        w, h = clusters._field(rng, n)
+        w, h = clusters.field_size(rng, n)
     poses = _poses(rng, w, h, rho, max(0.3, r + rho))
     if poses is None:
         return None

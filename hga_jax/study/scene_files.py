@@ -22,16 +22,18 @@ SPACING = 0.30  # minimum distance between obstacle centres (m)
 
 
 def scene_dict(name: str, w: float, h: float, start, goal, centres, radii=None,
-               robot_radius: float = ROBOT_RADIUS, turn_radius: float = TURN_RADIUS) -> dict:
+               robot_radius: float = ROBOT_RADIUS, turn_radius: float = TURN_RADIUS,
+               keep_inside: bool = True) -> dict:
     """A scenario mapping (metres, degrees) rounded to 0.1 mm and 0.01 degree; ``radii``:
-    per-obstacle physical radii (None: none written, the robot's radius)."""
+    per-obstacle physical radii (None: none written, the robot's radius); ``keep_inside``:
+    whether the field's edges are walls."""
     r4 = lambda v: round(float(v), 4)  # noqa: E731
     obstacles = ([{"x": r4(x), "y": r4(y)} for x, y in centres] if radii is None else
                  [{"x": r4(x), "y": r4(y), "radius": r4(r)} for (x, y), r in zip(centres, radii)])
     return {
         "name": name,
         "robot": {"radius": r4(robot_radius), "min_turn_radius": r4(turn_radius)},
-        "field": {"xmin": 0.0, "xmax": r4(w), "ymin": 0.0, "ymax": r4(h), "keep_inside": True},
+        "field": {"xmin": 0.0, "xmax": r4(w), "ymin": 0.0, "ymax": r4(h), "keep_inside": keep_inside},
         "start": {"x": r4(start[0]), "y": r4(start[1]), "heading_deg": round(start[2], 2)},
         "goal": {"x": r4(goal[0]), "y": r4(goal[1]), "heading_deg": round(goal[2], 2)},
         "obstacles": obstacles,

@@ -74,6 +74,10 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
         from . import clusters
 
         return clusters.generate(n, seed, index, name, density)
+    if kind == "scattered":
+        from . import scattered
+
+        return scattered.generate(n, seed, index, name, density)
     if kind in ("loops", "cluster_loops"):
         from . import loops
 
