@@ -29,8 +29,6 @@ import math
 
 import numpy as np
 
-from hga_jax.host.config import scenario_from_dict
-from hga_jax.model.exact import solve
 from . import scene_files
 
 STREAM = 0xC1A5  # last word of the seed: streams apart from those of scenes.py
@@ -147,22 +145,16 @@ def generate(n: int, seed: int, index: int, name: str, density: float | None = N
     if density is not None:
         raise ValueError("clusters scenes draw their own density; give none")
     rng = np.random.default_rng([seed, n, index, STREAM])
-    for _ in range(MAX_TRIES):
+
+    def draw() -> dict | None:
         r, rho = rng.uniform(*ROBOT_RADIUS), rng.uniform(*TURN_RADIUS)
         w, h = field_size(rng, n)
         start, goal = poses(rng, w, h, r + rho)
         placed = _place(rng, n, w, h, r, rho, start, goal)
         if placed is None:
-            continue
-        d = scene_files.scene_dict(name, w, h, start, goal, placed[0], radii=placed[1],
-                              robot_radius=r, turn_radius=rho)
-        try:
-            sc = scenario_from_dict(d, name)
-        except ValueError:
-            continue
-        if not scene_files.blocked(sc):
-            continue
-        opt = solve(sc)
-        if opt.feasible and opt.expressible and len(opt.touched) >= 3:
-            return d
-    raise RuntimeError(f"no clusters scene with {n} obstacles found in {MAX_TRIES} tries")
+            return None
+        return scene_files.scene_dict(name, w, h, start, goal, placed[0], radii=placed[1],
+                                      robot_radius=r, turn_radius=rho)
+
+    return scene_files.first_kept(draw, scene_files.blocked_and_wrapping(3), name, MAX_TRIES,
+                                  f"clusters scene with {n} obstacles")

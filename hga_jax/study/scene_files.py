@@ -64,6 +64,21 @@ def blocked(sc: Scenario) -> bool:
     return bool(np.all(decode64(sc, perm, labels).violations > 0))
 
 
+def blocked_and_wrapping(touches: int):
+    """The test the held-out generators keep a scenario by: it is :func:`blocked`, and
+    its exact optimum is feasible, expressible and touches at least ``touches``
+    obstacles (a ``kept`` for :func:`first_kept`)."""
+    def kept(sc: Scenario) -> bool:
+        from hga_jax.model.exact import solve
+
+        if not blocked(sc):
+            return False
+        opt = solve(sc)
+        return bool(opt.feasible and opt.expressible and len(opt.touched) >= touches)
+
+    return kept
+
+
 def place_uniform(rng, n: int, w: float, h: float, start, goal, obstructed: bool) -> np.ndarray:
     """``n`` centres at least SPACING apart, clear of the start and goal points."""
     keep = np.array([start[:2], goal[:2]])
