@@ -232,7 +232,15 @@ def _wrap_one(w: Array, perm: Array, labels: Array, legs,
               found=None) -> tuple[Plan, Array]:
     """``repair`` without its fallback, from its three words: its plan and whether a leg
     was blocked (``found``: :func:`blocked_legs` of the chromosome, if made already)."""
-    ids, nxt_id, blocked = blocked_legs(perm, labels, legs) if found is None else found
+    return _wrap(w, perm, labels, legs,
+                 *(blocked_legs(perm, labels, legs) if found is None else found))
+
+
+def _wrap(w: Array, perm: Array, labels: Array, legs, ids: Array, nxt_id: Array,
+          blocked: Array) -> tuple[Plan, Array]:
+    """The wrap's rule, given per position its circle, the next touched circle's and
+    whether the leg between them is blocked: a blocked leg (word 0), one of its
+    blockers (word 1), a direction (word 2), put right after the leg's first circle."""
     k, any_leg = _choose(blocked, w[0])
     a, c = ids[k], nxt_id[k]
     o, _ = _choose(jnp.asarray(legs.blockers)[a, c], w[1])  # the blocking obstacle
@@ -277,25 +285,19 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, 
     chromosomes as :func:`_wrap_one` applied ``n`` times, step ``t`` reading words
     ``3t .. 3t + 2`` of ``3n`` drawn from ``key``)."""
     n = perm.shape[-1]
-    s = n + 2
     labels = labels.at[1:-1].set(0)
-    pos = jnp.arange(s, dtype=jnp.int32)
-    table, blockers = jnp.asarray(legs.blocked), jnp.asarray(legs.blockers)
+    pos = jnp.arange(n + 2, dtype=jnp.int32)
+    table = jnp.asarray(legs.blocked)
     words = _words(key, 3 * n)
 
     def body(t, carry):
-        perm, labels, count = carry
-        w = jax.lax.dynamic_slice_in_dim(words, 3 * t, 3)
+        perm, labels, count = carry  # the touched obstacles: positions 1..count
         ids, _ = path_circles(perm, labels)
         nxt = jnp.where(pos < count, jnp.concatenate([ids[1:], ids[-1:]]), ids[-1])
-        k, any_leg = _choose(table[ids, nxt] & (pos <= count), w[0])
-        o, _ = _choose(blockers[take(ids, k[None])[0], take(nxt, k[None])[0]], w[1])
-        j = jnp.argmax(perm == o).astype(jnp.int32)  # o's position
-        q = k - 1  # the leg's first circle, as a permutation position (-1: the start)
-        ok = any_leg & (j != q)
-        plan = _relocation(j, jnp.where(j > q, q + 1, q), _sign(w[2]), ok, labels)
-        perm, labels = apply(perm, labels, plan)
-        return perm, labels, count + (ok & (j >= count)).astype(jnp.int32)
+        w = jax.lax.dynamic_slice_in_dim(words, 3 * t, 3)
+        plan, ok = _wrap(w, perm, labels, legs, ids, nxt, table[ids, nxt] & (pos <= count))
+        new = ok & (plan.j >= count)  # an untouched obstacle wrapped
+        return (*apply(perm, labels, plan), count + new.astype(jnp.int32))
 
     perm, labels, _ = jax.lax.fori_loop(0, n, body, (perm, labels, jnp.int32(0)))
     return perm, labels

@@ -205,7 +205,8 @@ BUILTINS = (
     ("path_mutation", "none", "path_ops", "keep", None, None),
     *(("path_mutation", name, "path_ops", name, None, None)
       for name in ("flip", "drop", "insert", "shift", "repair", "mixed")),
-    ("path_mutation", "guided", "guided", "guided", "guided_from_words", lambda n, s: 26),
+    ("path_mutation", "guided", "guided", "guided", "guided_from_words",
+     lambda n, s: _module("guided").WORDS),
     ("leg_crossover", "two_point", "leg_ops", "two_point", None, None),
     ("leg_mutation", "redraw", "leg_ops", "redraw", "redraw_from_words", lambda n, s: n + 2),
     ("end_mutation", "none", "end_ops", "keep", None, None),
@@ -216,12 +217,17 @@ JAX) are imported on first use of an operator, not to read their names."""
 _SETTINGS = {("selection", "tournament"): ("tournament_size",)}
 
 
-def _load_builtins() -> None:
+def _module(name: str):
+    """The built-in operators' module ``hga_jax.search.<name>``."""
     import importlib
 
+    return importlib.import_module(f"hga_jax.search.{name}")
+
+
+def _load_builtins() -> None:
     table: dict[str, dict[str, Operator]] = {kind: {} for kind in KINDS}
     for kind, name, module, attr, words, rows in BUILTINS:
-        mod = importlib.import_module(f"hga_jax.search.{module}")
+        mod = _module(module)
         fn = getattr(mod, attr)
         extra = {} if words is None else {"from_words": getattr(mod, words), "rows": rows}
         table[kind][name] = Operator(kind, name, fn, builtin=True, doc=fn.__doc__ or "",

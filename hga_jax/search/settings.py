@@ -90,6 +90,8 @@ class Rates(NamedTuple):
     penalty_weight: Any
     seeded: Any
     restart_after: Any
+
+
 MODEL_FIELDS = ("leg_crossover", "leg_mutation", "end_mutation", "ends_of_best")
 """Settings that only a car model with genes of its own reads (:attr:`GASettings.model`):
 under another model they do not change the program (:meth:`GASettings.structure`)."""

@@ -170,7 +170,7 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
     key = "quick.obstacles" if "obstacles" in quick else f"{where}.obstacles"
     if not isinstance(obs, list) or not obs:
         raise _err(source, key, f"must be a non-empty list of integers, got {obs!r}")
-    least = 3 if t["kind"] in ("obstructed", "clusters") else 2 if t["kind"] == "scattered" else 1
+    least = {"obstructed": 3, "clusters": 3, "scattered": 2}.get(t["kind"], 1)
     obs = tuple(_int(n, source, key, least, 1001) for n in obs)
     scenes = _int(quick.get("scenes", t.get("scenes", 1)), source, f"{where}.scenes", 1, 10_001)
     density = t.get("density")
