@@ -32,6 +32,10 @@ _RECENT_KEEP = 16
 _FOLDER: list[str | None] = [None]
 _KEEP_BYTES = 512 * 2**20  # the folder's size; the least recently used programs go first
 _FINGERPRINT: list[str] = []
+_TALLY: dict[str, dict[str, int]] = {}
+WAYS = ("compiled", "loaded", "reused")
+"""How :func:`program` found a program: compiled now, loaded from the program folder,
+or reused from this process's recent programs."""
 
 
 def use_folder(folder: str | None) -> None:
@@ -53,16 +57,20 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True) -> Any:
 
     text = repr((key, jax.config.jax_enable_x64, jax.config.jax_threefry_partitionable))
     found = _RECENT.pop(text, None)
-    path = None
+    path, way = None, "reused"
     if found is None:
+        way = "loaded"
         if disk and _FOLDER[0] is not None and " at 0x" not in text:
             name = hashlib.sha256((_fingerprint() + "\n" + text).encode()).hexdigest()[:32]
             path = os.path.join(_FOLDER[0], name + ".jaxprog")
             found = _load(path)
         if found is None:
-            found = lower().compile()
+            found, way = lower().compile(), "compiled"
             if path is not None and not _jax_cache_on():
                 _store(path, found)
+    kind = key[0] if key and isinstance(key[0], str) else "program"
+    counts = _TALLY.setdefault(kind, dict.fromkeys(WAYS, 0))
+    counts[way] += 1
     _RECENT[text] = found
     while len(_RECENT) > _RECENT_KEEP:
         _RECENT.pop(next(iter(_RECENT)))
@@ -111,6 +119,24 @@ def _jax_cache_on() -> bool:
     import jax
 
     return bool(jax.config.jax_compilation_cache_dir) and jax.config.jax_enable_compilation_cache
+
+
+def tally() -> dict[str, dict[str, int]]:
+    """Programs asked for so far in this process, per kind (the key's first element:
+    ``"ga-block"`` a GA batch, ``"decode64"`` the float64 decoder) and per way found
+    (:data:`WAYS`); a copy."""
+    return {kind: dict(counts) for kind, counts in _TALLY.items()}
+
+
+def tally_since(before: dict[str, dict[str, int]]) -> dict[str, dict[str, int]]:
+    """:func:`tally` minus an earlier ``tally()``, kinds with nothing new left out."""
+    out = {}
+    for kind, counts in tally().items():
+        old = before.get(kind, {})
+        new = {way: counts[way] - old.get(way, 0) for way in WAYS}
+        if any(new.values()):
+            out[kind] = new
+    return out
 
 
 def forget() -> None:

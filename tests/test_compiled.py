@@ -56,6 +56,22 @@ def test_a_stored_program_is_loaded_instead_of_compiled(folder):
     assert other.calls == 1 and len(_files(folder)) == 2
 
 
+def test_the_tally_counts_each_way_a_program_was_found(folder):
+    before = compiled.tally()
+    x = np.ones(5, np.float32)
+    compiled.program(("tally", 1.0), Counted(1.0))(x)  # compiled
+    compiled.program(("tally", 1.0), Counted(1.0))(x)  # in memory
+    compiled.forget()
+    compiled.program(("tally", 1.0), Counted(1.0))(x)  # from the folder
+    compiled.program(("tally", 2.0), Counted(2.0), disk=False)(x)  # compiled
+    assert compiled.tally_since(before) == {"tally": {"compiled": 2, "loaded": 1, "reused": 1}}
+    assert compiled.tally_since(compiled.tally()) == {}
+    from hga_jax.study.cli import programs_line
+
+    assert programs_line({"ga-block": {"compiled": 19, "loaded": 0, "reused": 561}}) == (
+        "programs: GA: 19 compiled, 0 loaded from the program folder, 561 reused")
+
+
 def test_a_damaged_file_is_compiled_again_and_replaced(folder):
     x = np.ones(5, np.float32)
     compiled.program(("damaged",), Counted(1.0))

@@ -186,6 +186,25 @@ def test_scaling_quick_reports_times(tmp_path):
         assert sc.n / (w * h) == pytest.approx(min(1.4, sc.n / (2.8 * 2.3)), rel=1e-3)
 
 
+@pytest.mark.slow  # a bundled study's quick run
+def test_held_out_quick_tables_every_scene(tmp_path):
+    assert _study("held_out", "--quick", "--out", str(tmp_path), "--quiet", "--no-figures") == 0
+    table = _csv(tmp_path / "per_scene.csv")
+    rows = _csv(tmp_path / "runs.csv")
+    assert {t["family"] for t in table} == {"scattered", "clusters", "obstructed"}
+    for t in table:
+        by: dict[str, list[bool]] = {}
+        for r in rows:
+            if (r["config"], r["family"], r["obstacles"]) == (t["config"], t["family"],
+                                                               t["obstacles"]):
+                by.setdefault(r["scenario"], []).append(r["hit"] == "True")
+        rates = {s: sum(v) / len(v) for s, v in by.items()}
+        assert int(t["scenes"]) == len(rates) == 2 and int(t["runs"]) == 40
+        assert float(t["worst_scene_hit_rate"]) == min(rates.values())
+        assert rates[t["worst_scene"]] == min(rates.values())
+        assert float(t["hit_rate"]) == sum(sum(v) for v in by.values()) / 40
+
+
 RESUME = """name = "resume"
 runs = 40
 [[families]]

@@ -12,6 +12,9 @@
 - ``reversing``: per family and obstacle count, what backing up saves (the
   Reeds–Shepp optimum against the forward car's) and the GA's hit rate, worst scene
   too (:mod:`hga_jax.study.reversing`).
+- ``per_scene``: per configuration, family and obstacle count, the distribution of
+  the scenes' hit rates (worst, 10th percentile), feasible share, and each scene
+  paired against the first configuration (:mod:`hga_jax.study.per_scene`).
 """
 from __future__ import annotations
 
@@ -269,7 +272,8 @@ def _scaling_markdown(out: list[dict]) -> str:
     return markdown(pd.DataFrame(rows)) + "\n"
 
 
+from .per_scene import per_scene  # noqa: E402  (its own module)
 from .reversing import reversing  # noqa: E402  (its own module: the Reeds-Shepp car's)
 
 ANALYSES: dict[str, Any] = {"paper": paper, "penalty": penalty, "scaling": scaling,
-                            "reversing": reversing}
+                            "reversing": reversing, "per_scene": per_scene}

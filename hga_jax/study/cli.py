@@ -64,6 +64,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"study {outcome.study.name}: {len(outcome.docs)} cells "
           f"({outcome.cells_run} run now, {outcome.cells_reused} already done), "
           f"{len(outcome.table)} runs; results in {outcome.folder}")
+    if outcome.programs:
+        print(programs_line(outcome.programs))
     md = os.path.join(outcome.folder, "summary.md")
     if outcome.docs and not args.quiet:
         print(brief(outcome.summary, min(100, shutil.get_terminal_size((100, 24)).columns)))
@@ -71,3 +73,15 @@ def run(args: argparse.Namespace) -> int:
         print(f"every column, the tests and the notes: {md}")
     return 0
 
+
+KINDS = {"ga-block": "GA", "decode64": "float64 decoder"}
+
+
+def programs_line(programs: dict[str, dict[str, int]]) -> str:
+    """One line: how many programs of each kind were compiled now, loaded from the
+    program folder, or reused in this process (``Outcome.programs``)."""
+    parts = []
+    for kind, c in programs.items():
+        parts.append(f"{KINDS.get(kind, kind)}: {c['compiled']} compiled, {c['loaded']} "
+                     f"loaded from the program folder, {c['reused']} reused")
+    return "programs: " + "; ".join(parts)

@@ -7,7 +7,7 @@ A study file holds (paths are relative to the file)::
     runs = 1000                   # runs per cell (one configuration on one scene)
     scenarios = ["../scenarios/robocup_paper.toml"]   # optional scene files
     plugins = ["my_operators.py"] # optional: Python files imported first
-    analyses = ["paper"]          # optional extra reports: paper, penalty, scaling, reversing
+    analyses = ["paper"]          # optional extra reports: paper, penalty, scaling, reversing, per_scene
     yardstick = "tight-rope"      # the optimum the gaps are taken to: a car model's name
     [ga]                          # settings shared by every configuration
     [[families]]                  # optional generated scenes (see scenes.py)
@@ -64,7 +64,7 @@ KINDS = ("clutter", "obstructed", "clusters", "scattered", "loops", "cluster_loo
 :mod:`~hga_jax.study.scattered`, for free
 turns :mod:`~hga_jax.study.loops` and, for the Reeds–Shepp car, the parking-like
 :mod:`~hga_jax.study.parking`."""
-ANALYSES = ("paper", "penalty", "scaling", "reversing")
+ANALYSES = ("paper", "penalty", "scaling", "reversing", "per_scene")
 
 
 @dataclass(frozen=True)

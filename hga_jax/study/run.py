@@ -20,6 +20,7 @@ from typing import Any
 
 import pandas as pd
 
+from hga_jax import compiled
 from hga_jax.host.config import load_scenario
 
 from hga_jax.host.output import write_file, write_json
@@ -44,6 +45,9 @@ class Outcome:
     cells_reused: int
     files: list[str]
     skipped: dict[str, str] = dataclasses.field(default_factory=dict)  # label -> why
+    programs: dict[str, dict[str, int]] = dataclasses.field(default_factory=dict)
+    """Compiled programs this call asked for, per kind and way found
+    (:func:`hga_jax.compiled.tally_since`)."""
 
 
 def versions() -> dict[str, str]:
@@ -198,7 +202,7 @@ def run_study(path: str | Study, *, quick: bool = False, out: str | None = None,
     ran = 0
     bar = _bar(len(plan), progress)
     bar.update(len(plan) - len(todo))
-    t0 = time.perf_counter()
+    t0, tally0 = time.perf_counter(), compiled.tally()
     try:
         for config, scene, cid in todo:
             if max_cells is not None and ran >= max_cells:
@@ -218,12 +222,12 @@ def run_study(path: str | Study, *, quick: bool = False, out: str | None = None,
     bar.close()
     docs = [store.load(cid) for _, _, cid in plan if store.done(cid)]
     return _report(study, folder, scenes, plan, docs, ran, time.perf_counter() - t0,
-                   skip, note, figures)
+                   skip, note, figures, compiled.tally_since(tally0))
 
 
 def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int,
             seconds: float, skip: dict[str, str], note: str | None,
-            draw: bool = True) -> Outcome:
+            draw: bool = True, programs: dict | None = None) -> Outcome:
     labels = [c.label for c in study.configs]
     files: list[str] = []
     tab = table.build(study.name, docs)
@@ -260,7 +264,8 @@ def _report(study: Study, folder: str, scenes: list[Scene], plan, docs, ran: int
         "scenes": [{"name": s.name, "family": s.family, "file": s.path} for s in scenes],
         "cells": len(plan), "cells_finished": len(docs), "cells_run_now": ran,
         "skipped": skip, "note": note,
-        "seconds_now": seconds, "figures": draw and bool(docs), "files": files,
+        "seconds_now": seconds, "programs_now": programs or {},
+        "figures": draw and bool(docs), "files": files,
     }))
     return Outcome(folder, study, tab, rows, docs, ran, len(docs) - ran, files + [manifest],
-                   skip)
+                   skip, programs or {})
