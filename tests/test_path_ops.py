@@ -495,6 +495,47 @@ def test_wrap_blockers_is_n_repair_wraps_with_the_touched_obstacles_first(make):
     assert count.max() >= 2
 
 
+@pytest.mark.parametrize("make", [lambda: load_scenario("configs/scenarios/robocup_paper.toml"),
+                                  _grid30], ids=["robocup", "grid30"])
+def test_wrap_blockers_via_the_first_obstacle_is_n_repair_wraps_from_that_path(make):
+    """With ``via``, wrap_blockers starts from the path through the permutation's first
+    obstacle with its own label (the direct path where that label is 0) and is then the
+    repair's wrap applied n times, the touched obstacles kept at the front; without it,
+    the labels of position 0 do not matter."""
+    sc = make()
+    legs, n = _legs(sc), sc.n
+    perm, labels = _random(n, 100, seed=9)
+
+    def by_definition(key, p, l):
+        w = path_ops._words(key, 3 * n)
+
+        def body(t, pl):
+            return path_ops.apply(*pl, path_ops._wrap_one(
+                jax.lax.dynamic_slice_in_dim(w, 3 * t, 3), *pl, legs)[0])
+        return jax.lax.fori_loop(0, n, body, (p, l.at[2:-1].set(0)))
+
+    p2, l2 = _run(lambda k, p, l, g: path_ops.wrap_blockers(k, p, l, g, True), legs, perm,
+                  labels, seed=8)
+    p3, l3 = _run(lambda k, p, l, _: by_definition(k, p, l), legs, perm, labels, seed=8)
+    assert np.array_equal(p2, p3) and np.array_equal(l2, l3)
+    touched = l2[:, 1:-1] != 0
+    count = touched.sum(axis=1)
+    assert np.array_equal(touched, np.arange(n)[None, :] < count[:, None])
+    # a chromosome whose first label is set keeps that obstacle touched (a later wrap
+    # of it, as of any blocker, may turn it the other way)
+    first = labels[:, 1] != 0
+    assert first.any() and (~first).any()
+    for c in np.flatnonzero(first):
+        at = int(np.flatnonzero(p2[c] == perm[c, 0])[0])
+        assert l2[c, 1 + at] != 0
+    cleared = labels.copy()
+    cleared[:, 1] = 0
+    p4, l4 = _run(path_ops.wrap_blockers, legs, perm, labels, seed=8)
+    p5, l5 = _run(path_ops.wrap_blockers, legs, perm, cleared, seed=8)
+    assert np.array_equal(p4, p5) and np.array_equal(l4, l5)
+    assert not np.array_equal(l2, l4)
+
+
 def test_wrap_blockers_on_overlapping_circles_wraps_when_the_direct_leg_is_blocked():
     """Overlapping model circles make missing tangents whose stand-ins cross their own
     circles, so blocked legs may remain after n steps; still, a blocked direct leg

@@ -84,6 +84,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "pm_path": (float, None, "probability per child of the path move"),
     "seeding": (float, None, "fraction of generation 0 (and restarts) built by wrapping "
                 "obstacles that block the direct path"),
+    "seeding_via": (float, None, "share of the seeded individuals that start from a path "
+                    "through one random obstacle instead of the direct path"),
     "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),

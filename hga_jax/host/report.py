@@ -55,7 +55,9 @@ def _extras(st: GASettings) -> str:
     if st.path_mutation != "none":
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
     if st.seeding > 0:
-        out.append(f"seeded by wrapping blockers ({pct(st.seeding)} of each new population)")
+        via = (f", {pct(st.seeding_via)} of them from a path via a random obstacle"
+               if st.seeding_via > 0 else "")
+        out.append(f"seeded by wrapping blockers ({pct(st.seeding)} of each new population{via})")
     if st.restart_after:
         out.append(f"restart after {count(st.restart_after, 'stalled generation')}")
     if st.penalty_weight != 1.0:

@@ -272,11 +272,13 @@ def plan_repair(key: Array, perm: Array, labels: Array, legs, found=None) -> Pla
 repair = _moves(plan_repair)
 
 
-def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
+def wrap_blockers(key: Array, perm: Array, labels: Array, legs, via=False) -> tuple[Array, Array]:
     """A constructive path: from the direct path between the start and goal circles
     of ``labels`` (every obstacle label set to 0), wrap a blocking obstacle of a
     blocked leg, ``n`` times or until no leg is blocked (:func:`repair`'s step; it
-    reads legs only and decodes no path).
+    reads legs only and decodes no path). ``via`` (a bool): start instead from the path
+    through the permutation's first obstacle with its label in ``labels`` (the direct
+    path if that label is 0), so the wraps follow another corridor.
 
     Each wrap puts its obstacle right after the leg's first circle, so the touched
     obstacles are always the first ``L`` of the permutation, in path order: a leg runs
@@ -285,7 +287,8 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, 
     chromosomes as :func:`_wrap_one` applied ``n`` times, step ``t`` reading words
     ``3t .. 3t + 2`` of ``3n`` drawn from ``key``)."""
     n = perm.shape[-1]
-    labels = labels.at[1:-1].set(0)
+    keep = jnp.asarray(via) & (labels[1] != 0)
+    labels = labels.at[1:-1].set(0).at[1].set(jnp.where(keep, labels[1], 0))
     pos = jnp.arange(n + 2, dtype=jnp.int32)
     table = jnp.asarray(legs.blocked)
     words = _words(key, 3 * n)
@@ -299,7 +302,7 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, 
         new = ok & (plan.j >= count)  # an untouched obstacle wrapped
         return (*apply(perm, labels, plan), count + new.astype(jnp.int32))
 
-    perm, labels, _ = jax.lax.fori_loop(0, n, body, (perm, labels, jnp.int32(0)))
+    perm, labels, _ = jax.lax.fori_loop(0, n, body, (perm, labels, keep.astype(jnp.int32)))
     return perm, labels
 
 

@@ -24,7 +24,11 @@ a move on the touched sequence (``"none"``: no move) applied to each child with
 probability ``pm_path`` after the paper's operators. ``seeding``: the fraction of
 generation 0 (and of every restart) built by wrapping the obstacles that block
 the direct path, leg by leg (:func:`hga_jax.search.path_ops.wrap_blockers`) instead of
-drawn at random. ``restart_after = R``: at generations R, 2R, 3R, ..., a run whose best-so-far
+drawn at random; ``seeding_via``: the share of those seeded chromosomes whose wrapping
+starts from a path through one obstacle (the first of their random permutation, with
+its drawn label: a drawn 0 leaves the direct path) instead of the direct path, so that
+fresh populations also try corridors that the direct path's blockers do not lead to.
+``restart_after = R``: at generations R, 2R, 3R, ..., a run whose best-so-far
 did not improve in the last R generations starts a new population, drawn like
 generation 0, without elites (0: never restart). The best-so-far is kept.
 
@@ -67,10 +71,12 @@ from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
 RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
-         "pm_ends", "penalty_weight", "seeding", "restart_after")
+         "pm_ends", "seeding_via", "penalty_weight", "seeding", "restart_after")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
 configurations that differ only in these run the same program. Of ``seeding`` and
 ``restart_after`` only whether they are on (> 0) is structure."""
+SHARES = RATES[:9]
+"""The :data:`RATES` that are probabilities or shares (float32 in the program)."""
 
 
 class Rates(NamedTuple):
@@ -87,6 +93,7 @@ class Rates(NamedTuple):
     pc_legs: Any
     pm_legs: Any
     pm_ends: Any
+    seeding_via: Any
     penalty_weight: Any
     seeded: Any
     restart_after: Any
@@ -124,6 +131,7 @@ class GASettings:
     path_mutation: str = "none"
     pm_path: float = 0.0
     seeding: float = 0.0
+    seeding_via: float = 0.0
     restart_after: int = 0
     generations_per_obstacle: int = 0
     turns: str = car_model.DEFAULT
@@ -172,7 +180,7 @@ class GASettings:
         """The :data:`RATES` as arrays (``dtype``: the search's float type, of the penalty
         weight)."""
         f4 = np.float32
-        return Rates(*(np.asarray(getattr(self, k), f4) for k in RATES[:8]),
+        return Rates(*(np.asarray(getattr(self, k), f4) for k in SHARES),
                      np.asarray(self.penalty_weight, dtype),
                      np.asarray(int(round(self.seeding * self.population)), np.int32),
                      np.asarray(self.restart_after, np.int32))
@@ -189,7 +197,7 @@ class GASettings:
         idle = {f.name: f.default for f in dataclasses.fields(self)
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
-            self, **{k: 0.0 for k in RATES[:8]}, penalty_weight=1.0,
+            self, **{k: 0.0 for k in SHARES}, penalty_weight=1.0,
             seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0), **idle)
 
     def with_rates(self, rates: Rates) -> "GASettings":
@@ -269,7 +277,7 @@ class GASettings:
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
-                    "pc_legs", "pm_legs", "pm_ends"):
+                    "seeding_via", "pc_legs", "pm_legs", "pm_ends"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")
@@ -367,7 +375,8 @@ PAPER = GASettings()
 """The paper's HGA (section 4): the defaults of :class:`GASettings`."""
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
-                         path_mutation="guided", pm_path=1.0, seeding=1.0, restart_after=12,
+                         path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.5,
+                         restart_after=12,
                          penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles, one guided path move per child (the

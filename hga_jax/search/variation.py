@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import jax
 import jax.numpy as jnp
+from jax import Array
 
 from hga_jax.model.scenario import ScenarioArrays
 
@@ -136,7 +137,9 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     leg genes under free turns); with ``seeding``, the first ``round(seeding * P)`` are
     then built by :func:`hga_jax.search.path_ops.wrap_blockers` from their start and
     goal labels (keys from rows ``2n + 2`` and ``2n + 3``), keeping their random leg
-    genes (straight ones lost a third of the hits on scenes where free turns win).
+    genes (straight ones lost a third of the hits on scenes where free turns win); the
+    ``seeding_via`` share of them (spread over the population: :func:`spread`) start
+    from a path through the first obstacle of their permutation, with its drawn label.
     Returns ``(perm, labels, legs)``, legs None under the tight rope."""
     perm = permutation.permutation_from_words(words[:n].T)
     labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
@@ -149,10 +152,20 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     legs = _legs(sa)
     keys = _keys(words[2 * n + 2:2 * n + 4])
     pos = positional(perm, labels, settings)
-    sp, sl = jax.vmap(lambda k, p, l: path_ops.wrap_blockers(k, p, l, legs))(keys, perm, pos)
+    sp, sl = jax.vmap(lambda k, p, l, v: path_ops.wrap_blockers(k, p, l, legs, v))(
+        keys, perm, pos, spread(perm.shape[0], settings.seeding_via))
     sl = bound(sp, sl, settings)
     on = (jnp.arange(perm.shape[0]) < settings.seeded_count())[:, None]  # each from its own column
     return jnp.where(on, sp, perm), jnp.where(on, sl, labels), genes
+
+
+def spread(count: int, share) -> Array:
+    """``count`` bools, True for about ``share`` of them, spread evenly: entry ``i`` is
+    True when ``floor((i + 1) share) > floor(i share)`` (share 0.5: the odd entries;
+    ``share`` a float or a float32 scalar of the program's rates)."""
+    i = jnp.arange(count, dtype=jnp.float32)
+    share = jnp.asarray(share, jnp.float32)
+    return jnp.floor((i + 1) * share) > jnp.floor(i * share)
 
 
 def _pairwise(rows, op, prob, a, b):
