@@ -465,6 +465,21 @@ def test_wrap_blockers_leaves_no_blocked_leg_or_uses_n_steps(make):
     assert np.count_nonzero(l2[:, 1:-1], axis=1).mean() >= 2  # real paths, not direct ones
 
 
+def _wraps_by_definition(n, first):
+    """wrap_blockers by its definition, a move ``(key, perm, labels, legs)``: the repair's
+    wrap (``_wrap_one``, which finds the next touched circle of any chromosome) applied
+    n times to the chromosome with labels ``first .. n`` cleared (1: the direct path; 2:
+    the path through position 0's obstacle), step t on words 3t .. 3t + 2 of 3n."""
+    def move(key, p, l, legs):
+        w = path_ops._words(key, 3 * n)
+
+        def body(t, pl):
+            return path_ops.apply(*pl, path_ops._wrap_one(
+                jax.lax.dynamic_slice_in_dim(w, 3 * t, 3), *pl, legs)[0])
+        return jax.lax.fori_loop(0, n, body, (p, l.at[first:-1].set(0)))
+    return move
+
+
 @pytest.mark.parametrize("make", [lambda: load_scenario("configs/scenarios/robocup_paper.toml"),
                                   _grid30,
                                   lambda: load_scenario("configs/scenarios/overlapping.toml")],
@@ -477,17 +492,8 @@ def test_wrap_blockers_is_n_repair_wraps_with_the_touched_obstacles_first(make):
     sc = make()
     legs, n = _legs(sc), sc.n
     perm, labels = _random(n, 100, seed=7)
-
-    def by_definition(key, p, l):
-        w = path_ops._words(key, 3 * n)
-
-        def body(t, pl):
-            return path_ops.apply(*pl, path_ops._wrap_one(
-                jax.lax.dynamic_slice_in_dim(w, 3 * t, 3), *pl, legs)[0])
-        return jax.lax.fori_loop(0, n, body, (p, l.at[1:-1].set(0)))
-
     p2, l2 = _run(path_ops.wrap_blockers, legs, perm, labels, seed=8)
-    p3, l3 = _run(lambda k, p, l, _: by_definition(k, p, l), legs, perm, labels, seed=8)
+    p3, l3 = _run(_wraps_by_definition(n, first=1), legs, perm, labels, seed=8)
     assert np.array_equal(p2, p3) and np.array_equal(l2, l3)
     touched = l2[:, 1:-1] != 0
     count = touched.sum(axis=1)
@@ -505,18 +511,9 @@ def test_wrap_blockers_via_the_first_obstacle_is_n_repair_wraps_from_that_path(m
     sc = make()
     legs, n = _legs(sc), sc.n
     perm, labels = _random(n, 100, seed=9)
-
-    def by_definition(key, p, l):
-        w = path_ops._words(key, 3 * n)
-
-        def body(t, pl):
-            return path_ops.apply(*pl, path_ops._wrap_one(
-                jax.lax.dynamic_slice_in_dim(w, 3 * t, 3), *pl, legs)[0])
-        return jax.lax.fori_loop(0, n, body, (p, l.at[2:-1].set(0)))
-
     p2, l2 = _run(lambda k, p, l, g: path_ops.wrap_blockers(k, p, l, g, True), legs, perm,
                   labels, seed=8)
-    p3, l3 = _run(lambda k, p, l, _: by_definition(k, p, l), legs, perm, labels, seed=8)
+    p3, l3 = _run(_wraps_by_definition(n, first=2), legs, perm, labels, seed=8)
     assert np.array_equal(p2, p3) and np.array_equal(l2, l3)
     touched = l2[:, 1:-1] != 0
     count = touched.sum(axis=1)
