@@ -69,7 +69,7 @@ def main(argv: list[str] | None = None) -> int:
                  and (round(float(res.length[i]), 4), int(res.violations[i])) == (length, violations))
         path = evaluate_path(sc, res.perm[k], res.labels[k])
         optimum = opt.path
-        title = (f"{r['scenario']} ({label}): {100 * float(np.mean(res.hit)):.0f} % hit; "
+        title = (f"{r['scenario']} ({label}): {100 * float(np.mean(res.hit)):.0f} % hit\n"
                  f"{count} of {len(res.length)} runs end at {length:.4f} m, "
                  f"{violations} violations (optimum {opt.length:.4f} m, dashed)")
         fig = plot_path(sc, path.segments, touched=path.touched, title=title,
