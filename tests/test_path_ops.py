@@ -501,14 +501,12 @@ def test_wrap_blockers_is_n_repair_wraps_with_the_touched_obstacles_first(make):
     assert count.max() >= 2
 
 
-@pytest.mark.parametrize("make", [lambda: load_scenario("configs/scenarios/robocup_paper.toml"),
-                                  _grid30], ids=["robocup", "grid30"])
-def test_wrap_blockers_via_the_first_obstacle_is_n_repair_wraps_from_that_path(make):
+def test_wrap_blockers_via_the_first_obstacle_is_n_repair_wraps_from_that_path():
     """With ``via``, wrap_blockers starts from the path through the permutation's first
     obstacle with its own label (the direct path where that label is 0) and is then the
     repair's wrap applied n times, the touched obstacles kept at the front; without it,
-    the labels of position 0 do not matter."""
-    sc = make()
+    the labels of position 0 do not matter (30 obstacles)."""
+    sc = _grid30()
     legs, n = _legs(sc), sc.n
     perm, labels = _random(n, 100, seed=9)
     p2, l2 = _run(lambda k, p, l, g: path_ops.wrap_blockers(k, p, l, g, True), legs, perm,
