@@ -65,7 +65,8 @@ def test_blocks_equal_one_scan_and_run_batch_takes_a_list(robocup, monkeypatch):
     assert budget.plan(9, s, 10, 4).block == 4  # generations 0-3, 4-7, 8-11, 12
     res = run_many(robocup, s, seed=5, runs=10, chunk=4, exact=False)
     sa = robocup.search_arrays()
-    best, history = jax.jit(lambda: ga.run_batch(5, [0, 5, 9], sa, s))()  # a plain list
+    # a plain list; the scenario an argument, as the runner passes it (not folded in)
+    best, history = jax.jit(lambda a: ga.run_batch(5, [0, 5, 9], a, s))(sa)
     for f in ("perm", "labels", "generation"):
         assert np.array_equal(np.asarray(getattr(best, f)), getattr(res, f)[[0, 5, 9]]), f
     for name, value in history._asdict().items():
