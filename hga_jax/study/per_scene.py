@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from hga_jax.host.output import write_file
-from . import stats
+from . import stats, summary
 from .figures import save, subplots
 from .table import markdown, numeric, write_csv
 
@@ -53,12 +53,15 @@ def target(n: int) -> tuple[float, float, float] | None:
     return None
 
 
-def _scene_rates(tab: pd.DataFrame, m: np.ndarray) -> pd.DataFrame:
-    sub = tab[m]
-    feasible = np.isfinite(numeric(sub, "gap"))
-    return pd.DataFrame({"scenario": sub["scenario"].to_numpy(), "hit": sub["hit"].to_numpy(bool),
-                         "feasible": feasible}).groupby("scenario", sort=False).agg(
-        runs=("hit", "size"), hits=("hit", "sum"), feasible=("feasible", "mean"))
+def _rates(scenes: pd.DataFrame, family: str, n: int, config: str) -> pd.DataFrame:
+    """One configuration's scenes of a family and size from :func:`summary.by_scene`'s
+    rows: ``runs``, ``hits`` and ``feasible`` (share), indexed by scenario."""
+    m = scenes[(scenes["family"] == family) & (scenes["obstacles"] == n)
+               & (scenes["config"] == config)]
+    return pd.DataFrame({"runs": m["runs"].to_numpy(),
+                         "hits": np.rint(m["hit_rate"] * m["runs"]).astype(int).to_numpy(),
+                         "feasible": m["feasible_rate"].to_numpy()},
+                        index=m["scenario"].to_numpy())
 
 
 def per_scene(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any, folder: str,
@@ -68,16 +71,17 @@ def per_scene(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any, folder
     obstacles = tab["obstacles"].to_numpy()
     evals, time_s = numeric(tab, "evaluations"), numeric(tab, "time_s")
     ref = study.configs[0].label
+    scenes = pd.DataFrame(summary.by_scene(tab, [c.label for c in study.configs]))
     out, scenes_out = [], []
     for fam in dict.fromkeys(family.tolist()):
         for n in sorted(set(obstacles[family == fam].tolist())):
             group = (family == fam) & (obstacles == n)
-            base = _scene_rates(tab, group & (config == ref))
+            base = _rates(scenes, fam, n, ref)
             for c in study.configs:
                 m = group & (config == c.label)
                 if not m.any():
                     continue
-                per = _scene_rates(tab, m)
+                per = _rates(scenes, fam, n, c.label)
                 rate = per["hits"] / per["runs"]
                 k, runs = int(per["hits"].sum()), int(per["runs"].sum())
                 lo, hi = stats.wilson(k, runs)
