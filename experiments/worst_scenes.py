@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 import hga_jax as hg
+from hga_jax.errors import ConfigError
 from hga_jax.host.config import load_scenario
 from hga_jax.host.output import write_file
 from hga_jax.host.plots import plot_path
@@ -41,15 +42,23 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--config", help="the configuration's label (default: the study's first)")
     p.add_argument("--below", type=float, default=1.0, help="only scenes under this hit rate")
     args = p.parse_args(argv)
-    manifest = json.load(open(os.path.join(args.folder, "study.json")))
-    study = load_study(manifest["source"], manifest.get("quick", False))
+    if args.count < 1:
+        return _fail("--count: must be >= 1, got {}".format(args.count))
+    rates_file = os.path.join(args.folder, "per_scene_rates.csv")
+    for need in (os.path.join(args.folder, "study.json"), rates_file):
+        if not os.path.isfile(need):
+            return _fail(f"{need}: not found (a finished study folder whose study file asks "
+                         "for analyses = [\"per_scene\"])")
+    try:
+        manifest = json.load(open(os.path.join(args.folder, "study.json")))
+        study = load_study(manifest["source"], manifest.get("quick", False))
+    except (ValueError, KeyError, OSError, ConfigError) as e:
+        return _fail(f"{os.path.join(args.folder, 'study.json')}: {e}")
     label = args.config or study.configs[0].label
     config = next((c for c in study.configs if c.label == label), None)
     if config is None or config.settings is None:
-        print(f"worst_scenes: no GA configuration {label!r} in {manifest['source']}",
-              file=sys.stderr)
-        return 2
-    rates = pd.read_csv(os.path.join(args.folder, "per_scene_rates.csv"))
+        return _fail(f"{manifest['source']}: configs: no GA configuration {label!r}")
+    rates = pd.read_csv(rates_file)
     rates = rates[(rates["config"] == label) & (rates["hit_rate"] < args.below)]
     worst = rates.sort_values(["hit_rate", "scenario"]).head(args.count)
     out = os.path.join(args.folder, "worst_scenes")
@@ -94,6 +103,11 @@ def main(argv: list[str] | None = None) -> int:
     write_file(os.path.join(out, "worst_scenes.md"), lambda fh: fh.write(text))
     print(f"table: {os.path.join(out, 'worst_scenes.md')}")
     return 0
+
+
+def _fail(message: str) -> int:
+    print(f"worst_scenes: {message}", file=sys.stderr)
+    return 2
 
 
 def _ends(path) -> str:
