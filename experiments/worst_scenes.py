@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
         optimum = opt.path
         title = (f"{r['scenario']} ({label}): {100 * float(np.mean(res.hit)):.0f} % hit\n"
                  f"{count} of {len(res.length)} runs end at {length:.4f} m, "
-                 f"{violations} violations (optimum {opt.length:.4f} m, dashed)")
+                 f"{violations} violation{'' if violations == 1 else 's'} (optimum {opt.length:.4f} m, dashed)")
         fig = plot_path(sc, path.segments, touched=path.touched, title=title,
                         optimum=opt.segments,
                         violations_at=path.violations_at)
