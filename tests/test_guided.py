@@ -123,9 +123,8 @@ def test_the_change_of_a_plan_is_the_change_of_the_leg_score(plan, path):
     with jax.enable_x64(True):
         def one(k, p, lab):
             pl = plan(k, p, lab, legs)
-            ids, _ = path_ops.path_circles(p, lab)
             made = path_ops.apply(p, lab, pl)
-            return (guided.change(pl, p, lab, ids, lab != 0, guided.weights(legs)),
+            return (guided.change(pl, p, lab, path_ops.view(p, lab, legs), guided.weights(legs)),
                     guided.leg_score(p, lab, legs), guided.leg_score(*made, legs), made,
                     move(k, p, lab, legs))
         d, before, after, made, moved = jax.jit(jax.vmap(one))(keys, perm, labels)
@@ -133,3 +132,29 @@ def test_the_change_of_a_plan_is_the_change_of_the_leg_score(plan, path):
     for a, b in zip(made, moved):
         np.testing.assert_array_equal(a, b)
     assert (np.asarray(d) != 0).mean() > 0.2  # real changes, not only no-ops
+
+
+@pytest.mark.parametrize("path", SCENES + ("configs/scenarios/overlapping.toml",))
+def test_the_population_form_moves_each_chromosome_as_it_moves_alone(path):
+    """The GA's form lays a population out after the positions (the running counts and
+    neighbours made across it); each chromosome ends exactly as the one-chromosome move
+    and wrap make it, vmapped (and so as it did before the layout changed)."""
+    sc = load_scenario(path)
+    legs = sc.search_arrays(np.float32, with_legs=True).legs
+    perm, labels = _random(sc.n, 64, seed=11)
+    r = np.random.default_rng(4)
+    words = r.integers(0, 2**32, (64, guided.WORDS), dtype=np.uint64).astype(np.uint32)
+    got = jax.jit(lambda w, p, lab: guided.guided_from_words(w, p, lab, legs))(words, perm, labels)
+    alone = jax.jit(jax.vmap(lambda w, p, lab: guided.guided_one(w, p, lab, legs)))(
+        words, perm, labels)
+    for a, b in zip(got, alone):
+        np.testing.assert_array_equal(a, b)
+    assert (np.asarray(got[1]) != labels).any()  # the moves did something
+    w3 = r.integers(0, 2**32, (64, 3 * sc.n), dtype=np.uint64).astype(np.uint32)
+    via = np.arange(64) % 2 == 1
+    got = jax.jit(lambda w, p, lab, v: path_ops.wrap_from_words(w.T, p.T, lab.T, legs, v))(
+        w3, perm, labels, via)
+    alone = jax.jit(jax.vmap(lambda w, p, lab, v: path_ops.wrap_from_words(w, p, lab, legs, v)))(
+        w3, perm, labels, via)
+    for a, b in zip(got, alone):
+        np.testing.assert_array_equal(np.asarray(a).T, b)

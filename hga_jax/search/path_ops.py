@@ -30,6 +30,7 @@ obstacles.
 """
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, NamedTuple
 
 import jax
@@ -37,7 +38,7 @@ import jax.numpy as jnp
 from jax import Array
 
 from hga_jax.model.decode import position_circles
-from .permutation import ONEHOT_MAX_N, int_from_words, take
+from .permutation import ONEHOT_MAX_N, int_from_words, pick, take
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
 
@@ -46,18 +47,40 @@ def _words(key: Array, count: int) -> Array:
     return jax.random.bits(key, (count,), dtype=jnp.uint32)
 
 
-def _choose(mask: Array, word: Array) -> tuple[Array, Array]:
-    """A position uniform among the True entries of ``mask`` and whether there is one."""
-    count = jnp.sum(mask, dtype=jnp.int32)
+def along(x: Array, m: int | None = None) -> Array:
+    """The positions ``0..m-1`` (int32; ``m`` defaults to ``x``'s first axis), shaped to
+    broadcast against ``x`` (positions first, any batch after)."""
+    m = x.shape[0] if m is None else m
+    return jnp.arange(m, dtype=jnp.int32).reshape((m,) + (1,) * (x.ndim - 1))
+
+
+def _choose(mask: Array | None, word: Array, counts: Array | None = None
+            ) -> tuple[Array, Array]:
+    """A position uniform among the True entries of ``mask`` (along its first axis) and
+    whether there is one; ``counts``: its :func:`prefix_count`, if made already (then
+    ``mask`` is not read). The ``r``-th True entry is the first whose running count
+    exceeds ``r``: as many positions as have a count of ``r`` or less."""
+    counts = prefix_count(mask) if counts is None else counts
+    count = counts[-1]
     r = int_from_words(word, 0, jnp.maximum(count, 1))
-    idx = jnp.argmax(prefix_count(mask) > r).astype(jnp.int32)
-    return idx, count > 0
+    idx = jnp.sum(counts <= r, axis=0, dtype=jnp.int32)
+    return jnp.where(count > 0, idx, 0), count > 0
 
 
 def prefix_count(mask: Array) -> Array:
-    """``cumsum(mask)`` (int32) of a short bool vector, as a product with a triangular
-    matrix: exact (counts of ones, HIGHEST precision) and, vmapped over chromosomes on
-    the CPU, about twice as fast as ``cumsum`` (a reduce-window) at n = 25."""
+    """``cumsum(mask)`` (int32) along the first axis. A short bool vector (one
+    chromosome, vmapped or not): a product with a triangular matrix, exact (counts of
+    ones, HIGHEST precision) and, vmapped over chromosomes on the CPU, about twice as
+    fast as ``cumsum`` (a reduce-window) at n = 25. A batch after the positions: a
+    running sum over the positions, vector adds across the batch (``cumsum`` over that
+    leading axis, a reduce-window, took 20 times as long at 40 obstacles)."""
+    if mask.ndim > 1:
+        def add(total, row):
+            total = total + row.astype(jnp.int32)
+            return total, total
+
+        return jax.lax.scan(add, jnp.zeros(mask.shape[1:], jnp.int32),
+                            jax.lax.optimization_barrier(mask))[1]
     s = mask.shape[-1]
     lower = jnp.tril(jnp.ones((s, s), jnp.float32))
     counts = jnp.matmul(lower, mask.astype(jnp.float32), precision=jax.lax.Precision.HIGHEST)
@@ -67,8 +90,7 @@ def prefix_count(mask: Array) -> Array:
 def move_apply(perm: Array, labels: Array, j: Array, i: Array, label: Array) -> tuple[Array, Array]:
     """The obstacle at position ``j`` moved to position ``i`` (0-based positions of
     the permutation), with label ``label``; the positions between shift by one."""
-    n = perm.shape[-1]
-    p = jnp.arange(n, dtype=jnp.int32)
+    p = along(perm)
     up = (j < i) & (p >= j) & (p < i)  # take position p + 1's
     down = (j > i) & (p > i) & (p <= j)  # take position p - 1's
 
@@ -78,7 +100,7 @@ def move_apply(perm: Array, labels: Array, j: Array, i: Array, label: Array) -> 
         return jnp.where(p == i, at_i, shift)
 
     mid = labels[1:-1]
-    return (moved(perm, take(perm, j[None])[0]),
+    return (moved(perm, pick(perm, j)),
             jnp.concatenate([labels[:1], moved(mid, label), labels[-1:]]))
 
 
@@ -101,10 +123,9 @@ def _plan(j, i, label, end=-1) -> Plan:
 
 def apply(perm: Array, labels: Array, plan: Plan) -> tuple[Array, Array]:
     """The chromosome ``plan`` makes of ``(perm, labels)`` (one chromosome)."""
-    if perm.shape[-1]:
+    if perm.shape[0]:
         perm, labels = move_apply(perm, labels, plan.j, plan.i, plan.label)
-    pos = jnp.arange(labels.shape[-1], dtype=jnp.int32)
-    return perm, jnp.where(pos == plan.end, -labels, labels)
+    return perm, jnp.where(along(labels) == plan.end, -labels, labels)
 
 
 def _moves(plans):
@@ -126,18 +147,20 @@ def keep(key: Array, perm: Array, labels: Array, legs: Any = None) -> tuple[Arra
 # Each plan is written once, on its random words (uint32, as many as PLAN_WORDS says);
 # the plan of a key reads the words ``_words(key, count)`` (repair: two keys split from it).
 
-def _flip(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    movable = labels != 0
-    if legs is not None and getattr(legs, "ends", None) is not None:
-        movable = movable.at[0].set(False).at[-1].set(False)
-    k, _ = _choose(movable, w[0])
-    end = (k == 0) | (k == labels.shape[-1] - 1)
+def _flip(w: Array, perm: Array, labels: Array, legs: Any = None, v=None) -> Plan:
+    counts = _touched_counts(labels, v)
+    if legs is not None and getattr(legs, "ends", None) is not None:  # neither end movable
+        touched = labels != 0
+        counts = counts - touched[0] - jnp.where(along(labels) == labels.shape[0] - 1,
+                                                 touched[-1], 0)
+    k, _ = _choose(None, w[0], counts)
+    end = (k == 0) | (k == labels.shape[0] - 1)
     return _plan(jnp.where(end, 0, k - 1), jnp.where(end, 0, k - 1),
-                 jnp.where(end, labels[1], -take(labels, k[None])[0]), jnp.where(end, k, -1))
+                 jnp.where(end, labels[1], -pick(labels, k)), jnp.where(end, k, -1))
 
 
-def _drop(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    k, any_ = _choose(labels[1:-1] != 0, w[0])
+def _drop(w: Array, perm: Array, labels: Array, legs: Any = None, v=None) -> Plan:
+    k, any_ = _choose(None, w[0], _inner_counts(labels, v))
     return _plan(k, k, jnp.where(any_, 0, labels[1]))
 
 
@@ -150,17 +173,29 @@ def _relocation(j, i, label, ok, labels) -> Plan:
     return _plan(jnp.where(ok, j, 0), jnp.where(ok, i, 0), jnp.where(ok, label, labels[1]))
 
 
-def _insert(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    n = perm.shape[-1]
-    j, any_ = _choose(labels[1:-1] == 0, w[0])
+def _insert(w: Array, perm: Array, labels: Array, legs: Any = None, v=None) -> Plan:
+    n = perm.shape[0]
+    untouched = along(perm) + 1 - _inner_counts(labels, v)  # running count of label 0
+    j, any_ = _choose(None, w[0], untouched)
     return _relocation(j, int_from_words(w[1], 0, n), _sign(w[2]), any_, labels)
 
 
-def _shift(w: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
-    n = perm.shape[-1]
-    j, any_ = _choose(labels[1:-1] != 0, w[0])
-    return _relocation(j, int_from_words(w[1], 0, n), take(labels[1:-1], j[None])[0], any_,
-                       labels)
+def _shift(w: Array, perm: Array, labels: Array, legs: Any = None, v=None) -> Plan:
+    n = perm.shape[0]
+    j, any_ = _choose(None, w[0], _inner_counts(labels, v))
+    return _relocation(j, int_from_words(w[1], 0, n), pick(labels[1:-1], j), any_, labels)
+
+
+def _touched_counts(labels: Array, v=None) -> Array:
+    """Running count of touched positions (start and goal included)."""
+    return prefix_count(labels != 0) if v is None else v.counts
+
+
+def _inner_counts(labels: Array, v=None) -> Array:
+    """Running count of touched obstacles, over the permutation's positions (n, ...)."""
+    if v is None:
+        return prefix_count(labels[1:-1] != 0)
+    return v.counts[1:-1] - v.touched[0]
 
 
 def plan_flip(key: Array, perm: Array, labels: Array, legs: Any = None) -> Plan:
@@ -188,33 +223,82 @@ flip, drop, insert, shift = (_moves(f) for f in (plan_flip, plan_drop, plan_inse
 
 
 def path_circles(perm: Array, labels: Array) -> tuple[Array, Array]:
-    """Circle ids (:mod:`hga_jax.model.tangents`) of the positions (n + 2,) and touched mask:
-    :func:`hga_jax.model.decode.position_circles` for one chromosome."""
-    ids, touched = position_circles(perm[None], labels[None])
-    return ids[:, 0], touched[:, 0]
+    """Circle ids (:mod:`hga_jax.model.tangents`) of the positions (n + 2, ...) and touched
+    mask: :func:`hga_jax.model.decode.position_circles` for one chromosome (or a batch
+    after the positions)."""
+    s, batch = labels.shape[0], labels.shape[1:]
+    b = math.prod(batch)
+    ids, touched = position_circles(perm.reshape(s - 2, b).T, labels.reshape(s, b).T)
+    return ids.reshape(labels.shape), touched.reshape(labels.shape)
+
+
+class View(NamedTuple):
+    """What the moves read of a chromosome's path, per position (n + 2, ...): its circle
+    id (``ids``), whether it is ``touched`` and the running count of touched positions
+    (``counts``), the last touched position before it (``prev``, 0 if none) and the
+    first after it (``nxt``, ``n + 1`` if none), that circle's id (``nxt_id``), whether
+    the leg from it runs through an obstacle (``blocked``, False from untouched
+    positions and the goal) and the running count of such legs (``blocked_counts``).
+    Made once per chromosome (:func:`view`) for all the candidates of a guided move."""
+
+    ids: Array
+    touched: Array
+    counts: Array
+    prev: Array
+    nxt: Array
+    nxt_id: Array
+    blocked: Array
+    blocked_counts: Array
+
+
+def view(perm: Array, labels: Array, legs) -> View:
+    """The :class:`View` of one chromosome, or of a batch laid out after the positions."""
+    ids, touched = path_circles(perm, labels)
+    nxt, nxt_id = _following(ids, touched)
+    blocked = _blocked(ids, touched, nxt_id, legs)
+    return View(ids, touched, prefix_count(touched), prev_touched(touched), nxt, nxt_id,
+                blocked, prefix_count(blocked))
+
+
+def _following(ids: Array, touched: Array) -> tuple[Array, Array]:
+    """Per position the first touched position after it (:func:`next_touched`) and
+    that circle's id."""
+    if touched.ndim > 1:
+        return _next_after(touched, ids)
+    nxt = next_touched(touched)
+    return nxt, take(ids, nxt)
+
+
+def _blocked(ids: Array, touched: Array, nxt_id: Array, legs) -> Array:
+    """Whether the leg from each position to the next touched circle (``nxt_id``) runs
+    through an obstacle (False from untouched positions and the goal)."""
+    s = ids.shape[0]
+    return jnp.asarray(legs.blocked)[ids, nxt_id] & touched & (along(ids) < s - 1)
 
 
 def blocked_legs(perm: Array, labels: Array, legs) -> tuple[Array, Array, Array]:
     """Per position ``k`` (n + 2,): its circle id, the position of the next touched
     circle, and whether the leg from ``k`` to it passes through an obstacle (False
     from untouched positions and the goal)."""
-    s = labels.shape[-1]
     ids, touched = path_circles(perm, labels)
-    pos = jnp.arange(s, dtype=jnp.int32)
-    nxt_id = take(ids, next_touched(touched))
-    blocked = jnp.asarray(legs.blocked)[ids, nxt_id] & touched & (pos < s - 1)
-    return ids, nxt_id, blocked
+    nxt_id = _following(ids, touched)[1]
+    return ids, nxt_id, _blocked(ids, touched, nxt_id, legs)
 
 
 def next_touched(touched: Array) -> Array:
-    """Per position ``k`` (n + 2,) the first touched position after ``k`` (the goal's,
-    ``n + 1``, for the goal itself). Up to :data:`~hga_jax.search.permutation.ONEHOT_MAX_N`
-    obstacles, O(n^2) comparisons (vmapped on the CPU, 4 times faster than a reversed
-    running minimum, ``cummin``, at n = 25); beyond, a suffix minimum in log2(n + 2)
-    steps of shifted minima (the recommended preset's search 10 % faster at 25
-    obstacles and 30 % at 40, the same bits; at 9 the comparisons are faster)."""
-    s = touched.shape[-1]
-    pos = jnp.arange(s, dtype=jnp.int32)
+    """Per position ``k`` (n + 2, ...) the first touched position after ``k`` (the goal's,
+    ``n + 1``, for the goal itself). One chromosome (vmapped or not): up to
+    :data:`~hga_jax.search.permutation.ONEHOT_MAX_N` obstacles, O(n^2) comparisons
+    (vmapped on the CPU, 4 times faster than a reversed running minimum, ``cummin``, at
+    n = 25); beyond, a suffix minimum in log2(n + 2) steps of shifted minima (the
+    recommended preset's search 10 % faster at 25 obstacles and 30 % at 40, the same
+    bits; at 9 the comparisons are faster). A batch after the positions: one pass from
+    the goal back, a select across the batch per position (at 40 obstacles 30 times
+    faster than the shifted minima on such a layout)."""
+    s = touched.shape[0]
+    pos = along(touched)
+    if touched.ndim > 1:
+        return _next_after(touched)[0]
     if s - 2 <= ONEHOT_MAX_N:
         later = touched[None, :] & (pos[None, :] > pos[:, None])  # (s, s)
         return jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
@@ -228,45 +312,79 @@ def next_touched(touched: Array) -> Array:
     return v
 
 
+def _next_after(touched: Array, ids: Array | None = None) -> tuple[Array, Array | None]:
+    """:func:`next_touched` of a batch laid out after the positions, and the circle id
+    there (of ``ids``, if given): one pass from the goal back, carrying the first
+    touched position after the current one (and its id) across the batch."""
+    s = touched.shape[0]
+    last = jnp.full(touched.shape[1:], s - 1, jnp.int32)
+    with_ids = ids is not None
+    ids = jnp.zeros_like(last)[None].repeat(s, 0) if ids is None else ids
+
+    def back(after, k):  # after: the first touched position after k, and its id
+        pos, id_ = after
+        return (jnp.where(touched[k], k, pos), jnp.where(touched[k], ids[k], id_)), after
+
+    _, (nxt, nxt_id) = jax.lax.scan(back, (last, ids[-1]), jnp.arange(s - 1, -1, -1))
+    return nxt[::-1], (nxt_id[::-1] if with_ids else None)
+
+
+def prev_touched(touched: Array) -> Array:
+    """Per position ``k`` (n + 2, ...) the last touched position before ``k`` (0 where
+    there is none): :func:`next_touched` of the positions read backwards."""
+    s = touched.shape[0]
+    return s - 1 - next_touched(touched[::-1])[::-1]
+
+
 def _wrap_one(w: Array, perm: Array, labels: Array, legs,
-              found=None) -> tuple[Plan, Array]:
+              v: View | None = None) -> tuple[Plan, Array]:
     """``repair`` without its fallback, from its three words: its plan and whether a leg
-    was blocked (``found``: :func:`blocked_legs` of the chromosome, if made already)."""
-    return _wrap(w, perm, labels, legs,
-                 *(blocked_legs(perm, labels, legs) if found is None else found))
+    was blocked (``v``: the chromosome's :func:`view`, if made already)."""
+    if v is None:
+        return _wrap(w, perm, labels, legs, *blocked_legs(perm, labels, legs))
+    return _wrap(w, perm, labels, legs, v.ids, v.nxt_id, v.blocked, v.blocked_counts)
 
 
 def _wrap(w: Array, perm: Array, labels: Array, legs, ids: Array, nxt_id: Array,
-          blocked: Array) -> tuple[Plan, Array]:
+          blocked: Array, counts: Array | None = None) -> tuple[Plan, Array]:
     """The wrap's rule, given per position its circle, the next touched circle's and
     whether the leg between them is blocked: a blocked leg (word 0), one of its
     blockers (word 1), a direction (word 2), put right after the leg's first circle."""
-    k, any_leg = _choose(blocked, w[0])
-    a, c = ids[k], nxt_id[k]
-    o, _ = _choose(jnp.asarray(legs.blockers)[a, c], w[1])  # the blocking obstacle
+    k, any_leg = _choose(blocked, w[0], counts)
+    a, c = pick(ids, k), pick(nxt_id, k)
+    o = _blocker(legs, a, c, w[1])
     # Both directions alike: preferring the side away from the obstacle's centre
     # (3 in 4) found the optimum less often on held-out obstructed scenes (98.0%
     # against 99.7% of runs with flips, seeding and restarts).
     label = _sign(w[2])
-    j = jnp.argmax(perm == o).astype(jnp.int32)  # o's position
+    j = jnp.argmax(perm == o, axis=0).astype(jnp.int32)  # o's position
     q = k - 1  # the leg's first circle, as a permutation position (-1: the start)
     ok = any_leg & (j != q)
     return _relocation(j, jnp.where(j > q, q + 1, q), label, ok, labels), ok
 
 
-def _repair(w: Array, perm: Array, labels: Array, legs, found=None) -> Plan:
+def _blocker(legs, a: Array, c: Array, word: Array) -> Array:
+    """An obstacle uniform among the blockers of the tangent ``a -> c`` (0 if none): the
+    one ``word`` draws from the tangent's list (``legs.listed``, ``legs.count``), the
+    True entry of ``legs.blockers[a, c]`` that a choice over that row would take, read
+    in two look-ups instead of a pass over every obstacle."""
+    count = jnp.asarray(legs.count)[a, c].astype(jnp.int32)
+    r = int_from_words(word, 0, jnp.maximum(count, 1))
+    return jnp.asarray(legs.listed)[a, c, r].astype(jnp.int32)
+
+
+def _repair(w: Array, perm: Array, labels: Array, legs, v: View | None = None) -> Plan:
     """Six words: the wrap's three, then the fallback insert's three."""
-    wrap, ok = _wrap_one(w[:3], perm, labels, legs, found)
-    other = _insert(w[3:], perm, labels)
+    wrap, ok = _wrap_one(w[:3], perm, labels, legs, v)
+    other = _insert(w[3:], perm, labels, None, v)
     return Plan(*(jnp.where(ok, a, b) for a, b in zip(wrap, other)))
 
 
-def plan_repair(key: Array, perm: Array, labels: Array, legs, found=None) -> Plan:
-    """Wrap an obstacle that blocks a leg between the leg's circles (see module doc);
-    ``found``: :func:`blocked_legs` of the chromosome, if made already."""
+def plan_repair(key: Array, perm: Array, labels: Array, legs) -> Plan:
+    """Wrap an obstacle that blocks a leg between the leg's circles (see module doc)."""
     k1, k2 = jax.random.split(key)
     w = jnp.concatenate([_words(k1, 3), _words(k2, 3)])
-    return _repair(w, perm, labels, legs, found)
+    return _repair(w, perm, labels, legs)
 
 
 repair = _moves(plan_repair)
@@ -285,24 +403,36 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs, via=False) -> tu
     from position ``k`` to ``k + 1`` (from ``L`` to the goal), and a step costs O(n),
     not the O(n^2) of finding the next touched circle of any chromosome (the same
     chromosomes as :func:`_wrap_one` applied ``n`` times, step ``t`` reading words
-    ``3t .. 3t + 2`` of ``3n`` drawn from ``key``)."""
-    n = perm.shape[-1]
+    ``3t .. 3t + 2`` of ``3n`` drawn from ``key``: :func:`wrap_from_words`)."""
+    return wrap_from_words(_words(key, 3 * perm.shape[0]), perm, labels, legs, via)
+
+
+def wrap_from_words(words: Array, perm: Array, labels: Array, legs, via=False
+                    ) -> tuple[Array, Array]:
+    """:func:`wrap_blockers` from its ``3n`` words (3n, ...), for one chromosome or a
+    batch after the positions (``perm`` (n, ...), ``labels`` (n + 2, ...), ``via`` a
+    bool or one per chromosome). The steps stop once no chromosome has a blocked leg
+    left: a later step would change nothing, so a chromosome ends alike alone and in
+    any batch."""
+    n = perm.shape[0]
     keep = jnp.asarray(via) & (labels[1] != 0)
     labels = labels.at[1:-1].set(0).at[1].set(jnp.where(keep, labels[1], 0))
-    pos = jnp.arange(n + 2, dtype=jnp.int32)
+    pos = along(labels)
     table = jnp.asarray(legs.blocked)
-    words = _words(key, 3 * n)
 
-    def body(t, carry):
-        perm, labels, count = carry  # the touched obstacles: positions 1..count
+    def body(carry):
+        t, _, perm, labels, count = carry  # the touched obstacles: positions 1..count
         ids, _ = path_circles(perm, labels)
         nxt = jnp.where(pos < count, jnp.concatenate([ids[1:], ids[-1:]]), ids[-1])
         w = jax.lax.dynamic_slice_in_dim(words, 3 * t, 3)
-        plan, ok = _wrap(w, perm, labels, legs, ids, nxt, table[ids, nxt] & (pos <= count))
+        blocked = table[ids, nxt] & (pos <= count)
+        plan, ok = _wrap(w, perm, labels, legs, ids, nxt, blocked)
         new = ok & (plan.j >= count)  # an untouched obstacle wrapped
-        return (*apply(perm, labels, plan), count + new.astype(jnp.int32))
+        return (t + 1, jnp.any(blocked), *apply(perm, labels, plan),
+                count + new.astype(jnp.int32))
 
-    perm, labels, _ = jax.lax.fori_loop(0, n, body, (perm, labels, keep.astype(jnp.int32)))
+    init = (jnp.int32(0), jnp.asarray(True), perm, labels, keep.astype(jnp.int32))
+    _, _, perm, labels, _ = jax.lax.while_loop(lambda c: c[1] & (c[0] < n), body, init)
     return perm, labels
 
 

@@ -41,10 +41,15 @@ def rounds(n: int) -> int:
 
 
 def take(x: Array, idx: Array) -> Array:
-    """``x[idx]`` for 1-D ``x`` and in-range ``idx``.
+    """``x[idx]`` for 1-D ``x`` and in-range ``idx``; for ``x`` (m, ...) with a batch
+    after its first axis, ``x[idx[k, ...], ...]`` along that axis (``idx`` (k, ...)).
 
-    Small ``n``: a one-hot select (vector work only); large ``n``: a gather.
+    1-D, small ``n``: a one-hot select (vector work only); larger ``n`` and batches
+    laid out after the positions (one look-up per chromosome, across the batch): a
+    gather.
     """
+    if x.ndim > 1:
+        return jnp.take_along_axis(x, idx, axis=0)
     n = x.shape[-1]
     if n > ONEHOT_MAX_N:
         return x[idx]
@@ -52,6 +57,11 @@ def take(x: Array, idx: Array) -> Array:
     if x.dtype == jnp.bool_:
         return jnp.any(hit & x, axis=-1)
     return jnp.sum(jnp.where(hit, x, 0), axis=-1, dtype=x.dtype)
+
+
+def pick(x: Array, k: Array) -> Array:
+    """``x[k]`` along the first axis: one entry per chromosome (``x`` (m, ...), ``k`` (...))."""
+    return take(x, jnp.broadcast_to(k, x.shape[1:])[None])[0]
 
 
 def place(values: Array, targets: Array) -> Array:

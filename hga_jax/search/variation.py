@@ -152,8 +152,10 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     legs = _legs(sa)
     keys = _keys(words[2 * n + 2:2 * n + 4])
     pos = positional(perm, labels, settings)
-    sp, sl = jax.vmap(lambda k, p, l, v: path_ops.wrap_blockers(k, p, l, legs, v))(
-        keys, perm, pos, spread(perm.shape[0], settings.seeding_via))
+    wrap_words = jax.vmap(lambda k: path_ops._words(k, 3 * n))(keys)  # (P, 3n)
+    sp, sl = path_ops.wrap_from_words(wrap_words.T, perm.T, pos.T, legs,  # population last
+                                      spread(perm.shape[0], settings.seeding_via))
+    sp, sl = sp.T, sl.T
     sl = bound(sp, sl, settings)
     on = (jnp.arange(perm.shape[0]) < settings.seeded_count())[:, None]  # each from its own column
     return jnp.where(on, sp, perm), jnp.where(on, sl, labels), genes
