@@ -29,11 +29,14 @@ from hga_jax.errors import ConfigError
 from hga_jax.search.settings import GASettings
 
 CHROMOSOMES_PER_CHUNK = 50_000  # beyond this the working set leaves the cache
-# From 40 obstacles on, a chromosome's genes and the turn table crowd the cache sooner:
-# 1000 runs x 50 at n = 100 searched at 0.29 M evaluations/s in batches of 1000 runs,
-# 0.46 M/s in batches of 200 (0.26 M/s at 300); n = 50: 0.91 -> 1.10-1.25 M/s.
+# From 15 obstacles on, a chromosome's genes (and the guided move's view of them) crowd
+# the cache sooner. 1,000 runs x 50, the paper's budget, batches of 1,000 runs against
+# 200 (2026-12-04): the recommended preset 1.47 -> 1.17 s at n = 15 and 2.9 -> 1.9 s at
+# n = 25, the paper's 0.34 -> 0.33 s and 0.70 -> 0.41 s; at n = 9 either size alike.
+# Earlier: at n = 100, 0.29 M evaluations/s in batches of 1000 runs, 0.46 M/s in
+# batches of 200 (0.26 M/s at 300); n = 50: 0.91 -> 1.10-1.25 M/s.
 CHROMOSOMES_PER_CHUNK_LARGE_N = 10_000
-LARGE_N = 40
+LARGE_N = 15
 BLOCK_WORK = 10_000_000  # evaluations x obstacles per block: about 0.2 s on one CPU core
 DEVICE_BYTES_PER_GENE = 160  # per individual and gene (n + 2 genes); measured: at most 97
 DEVICE_BYTES_FIXED = 256  # per individual: selection, records

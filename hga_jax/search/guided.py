@@ -27,14 +27,13 @@ in the order above.
 """
 from __future__ import annotations
 
-import jax
 import jax.numpy as jnp
 from jax import Array
 
 from hga_jax.model import circle_ids
 
 from . import path_ops
-from .path_ops import Plan, along
+from .path_ops import Plan
 from .permutation import pick, take
 
 MOVES = (path_ops.flip, path_ops.drop, path_ops.insert, path_ops.shift, path_ops.repair)
@@ -75,7 +74,8 @@ def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array) -
     its touched neighbours (if it was touched) and enters its new one (if its label is
     not 0); a flipped end changes its one leg. Both sums are formed in one order, so a
     plan that changes nothing scores 0. Every place is read from the view's running
-    neighbours, a few look-ups per candidate whatever the length of the path."""
+    neighbours, a few look-ups per candidate whatever the length of the path. ``plan``
+    may hold several candidates along leading axes of its own (scored side by side)."""
     s = labels.shape[0]
     n = s - 2
 
@@ -95,8 +95,7 @@ def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array) -
     p2 = jnp.where(p2 == r, p, p2)
     q2 = pick(v.nxt, p2)
     q2 = jnp.where(q2 == r, q, q2)
-    at = jnp.stack(jnp.broadcast_arrays(r, p, q, p2, q2))
-    c_old, cp, cq, c2p, c2q = take(v.ids, at)
+    c_old, cp, cq, c2p, c2q = (pick(v.ids, x) for x in (r, p, q, p2, q2))
     o = pick(perm, plan.j) if n else jnp.int32(0)
     c_new = circle_ids.obstacle(o, circle_ids.side(plan.label))
     enters = (plan.label != 0) & (n > 0)
@@ -128,24 +127,17 @@ def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array
     if legs.length is None:
         raise ValueError("the guided move needs Legs with lengths (Scenario.search_arrays)")
     v = path_ops.view(perm, labels, legs)  # made once, for every candidate
-    plans, at = [], 0
-    for make, count in path_ops.PLAN_WORDS:
-        for _ in range(PER_MOVE):
-            plans.append(make(w[at:at + count], perm, labels, legs, v))
-            at += count
+    plans, at, shape = [], 0, perm.shape[1:]
+    for make, count in path_ops.PLAN_WORDS:  # a move's candidates side by side
+        block = w[at:at + PER_MOVE * count].reshape((PER_MOVE, count) + w.shape[1:])
+        plan = make(jnp.swapaxes(block, 0, 1), perm, labels, legs, v)
+        plans.append(Plan(*(jnp.broadcast_to(x, (PER_MOVE,) + shape) for x in plan)))
+        at += PER_MOVE * count
     wt = weights(legs)
-
-    def body(carry, plan):
-        score = change(plan, perm, labels, v, wt)
-        better = score < carry[0]
-        return (jnp.where(better, score, carry[0]),
-                Plan(*(jnp.where(better, a, b) for a, b in zip(plan, carry[1])))), None
-
-    init = (jnp.full(perm.shape[1:], jnp.inf, wt.dtype), plans[0])
-    stacked = Plan(*(jnp.stack([jnp.broadcast_to(x, perm.shape[1:]) for x in field])
-                     for field in zip(*plans)))
-    (_, best), _ = jax.lax.scan(body, init, stacked)
-    return path_ops.apply(perm, labels, best)
+    stacked = Plan(*(jnp.concatenate(field) for field in zip(*plans)))  # (candidates, ...)
+    scores = change(stacked, perm, labels, v, wt)
+    best = jnp.argmin(scores, axis=0)  # the first of equals
+    return path_ops.apply(perm, labels, Plan(*(pick(field, best) for field in stacked)))
 
 
 def guided(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:

@@ -54,6 +54,14 @@ def along(x: Array, m: int | None = None) -> Array:
     return jnp.arange(m, dtype=jnp.int32).reshape((m,) + (1,) * (x.ndim - 1))
 
 
+def lift(x: Array, like: Array) -> Array:
+    """``x`` (m, ...) with axes of length 1 put after its first, so that its positions
+    broadcast against ``like``'s leading axes of candidates (several moves drawn for each
+    chromosome side by side: ``like`` has more axes than ``x`` after the positions)."""
+    extra = jnp.ndim(like) - (x.ndim - 1)
+    return x.reshape((x.shape[0],) + (1,) * extra + x.shape[1:]) if extra > 0 else x
+
+
 def _choose(mask: Array | None, word: Array, counts: Array | None = None
             ) -> tuple[Array, Array]:
     """A position uniform among the True entries of ``mask`` (along its first axis) and
@@ -63,7 +71,7 @@ def _choose(mask: Array | None, word: Array, counts: Array | None = None
     counts = prefix_count(mask) if counts is None else counts
     count = counts[-1]
     r = int_from_words(word, 0, jnp.maximum(count, 1))
-    idx = jnp.sum(counts <= r, axis=0, dtype=jnp.int32)
+    idx = jnp.sum(lift(counts, r) <= r, axis=0, dtype=jnp.int32)
     return jnp.where(count > 0, idx, 0), count > 0
 
 
@@ -357,7 +365,7 @@ def _wrap(w: Array, perm: Array, labels: Array, legs, ids: Array, nxt_id: Array,
     # (3 in 4) found the optimum less often on held-out obstructed scenes (98.0%
     # against 99.7% of runs with flips, seeding and restarts).
     label = _sign(w[2])
-    j = jnp.argmax(perm == o, axis=0).astype(jnp.int32)  # o's position
+    j = jnp.argmax(lift(perm, o) == o, axis=0).astype(jnp.int32)  # o's position
     q = k - 1  # the leg's first circle, as a permutation position (-1: the start)
     ok = any_leg & (j != q)
     return _relocation(j, jnp.where(j > q, q + 1, q), label, ok, labels), ok

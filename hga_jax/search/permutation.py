@@ -49,7 +49,14 @@ def take(x: Array, idx: Array) -> Array:
     gather.
     """
     if x.ndim > 1:
-        return jnp.take_along_axis(x, idx, axis=0)
+        m = x.shape[0]
+        if m > ONEHOT_MAX_N + 2:
+            return jnp.take_along_axis(x, idx, axis=0)
+        rows = jnp.arange(m, dtype=idx.dtype).reshape((m,) + (1,) * (x.ndim - 1))
+        hit = idx[:, None] == rows  # (k, m, ...)
+        if x.dtype == jnp.bool_:
+            return jnp.any(hit & x, axis=1)
+        return jnp.sum(jnp.where(hit, x, 0), axis=1, dtype=x.dtype)
     n = x.shape[-1]
     if n > ONEHOT_MAX_N:
         return x[idx]
@@ -60,8 +67,14 @@ def take(x: Array, idx: Array) -> Array:
 
 
 def pick(x: Array, k: Array) -> Array:
-    """``x[k]`` along the first axis: one entry per chromosome (``x`` (m, ...), ``k`` (...))."""
-    return take(x, jnp.broadcast_to(k, x.shape[1:])[None])[0]
+    """``x[k]`` along the first axis: one entry per chromosome (``x`` (m, ...), ``k`` (...),
+    which may add leading axes of its own: several look-ups per chromosome)."""
+    extra = jnp.ndim(k) - (x.ndim - 1)  # k's own leading axes (as path_ops.lift)
+    if extra > 0:
+        x = x.reshape((x.shape[0],) + (1,) * extra + x.shape[1:])
+    shape = jnp.broadcast_shapes(x.shape[1:], jnp.shape(k))
+    x = jnp.broadcast_to(x, x.shape[:1] + shape)
+    return take(x, jnp.broadcast_to(k, shape)[None])[0]
 
 
 def place(values: Array, targets: Array) -> Array:
