@@ -76,10 +76,16 @@ def position_circles(perm, labels):
     circle of their label, any circle where the label is 0), S-1 the goal circle;
     ``touched`` is False where the label is 0.
     """
-    n = perm.shape[1]
-    lab = labels.T.astype(jnp.int32)  # (S, B)
+    return circles_along(perm.T, labels.T)
+
+
+def circles_along(perm, labels):
+    """:func:`position_circles` of chromosomes laid out positions first: ``perm`` (n, ...)
+    and ``labels`` (n + 2, ...), any batch after; ``ids`` and ``touched`` (n + 2, ...)."""
+    n = perm.shape[0]
+    lab = labels.astype(jnp.int32)
     side = circle_ids.side(lab)  # 0 for CCW (-1), 1 for CW (+1)
-    obstacle_ids = circle_ids.obstacle(perm.T.astype(jnp.int32), side[1:n + 1])
+    obstacle_ids = circle_ids.obstacle(perm.astype(jnp.int32), side[1:n + 1])
     start, goal = circle_ids.START[0] + side[:1], circle_ids.GOAL[0] + side[n + 1:]
     return jnp.concatenate([start, obstacle_ids, goal]), lab != 0
 

@@ -30,14 +30,13 @@ obstacles.
 """
 from __future__ import annotations
 
-import math
 from typing import Any, Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
 from jax import Array
 
-from hga_jax.model.decode import position_circles
+from hga_jax.model.decode import circles_along
 from .permutation import ONEHOT_MAX_N, int_from_words, pick, take
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
@@ -234,10 +233,7 @@ def path_circles(perm: Array, labels: Array) -> tuple[Array, Array]:
     """Circle ids (:mod:`hga_jax.model.tangents`) of the positions (n + 2, ...) and touched
     mask: :func:`hga_jax.model.decode.position_circles` for one chromosome (or a batch
     after the positions)."""
-    s, batch = labels.shape[0], labels.shape[1:]
-    b = math.prod(batch)
-    ids, touched = position_circles(perm.reshape(s - 2, b).T, labels.reshape(s, b).T)
-    return ids.reshape(labels.shape), touched.reshape(labels.shape)
+    return circles_along(perm, labels)
 
 
 class View(NamedTuple):
