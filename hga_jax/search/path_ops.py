@@ -260,8 +260,28 @@ def view(perm: Array, labels: Array, legs) -> View:
     ids, touched = path_circles(perm, labels)
     nxt, nxt_id = _following(ids, touched)
     blocked = _blocked(ids, touched, nxt_id, legs)
-    return View(ids, touched, prefix_count(touched), prev_touched(touched), nxt, nxt_id,
-                blocked, prefix_count(blocked))
+    if touched.ndim == 1:
+        counts, prev, blocked_counts = (prefix_count(touched), prev_touched(touched),
+                                        prefix_count(blocked))
+    else:  # one pass from the start for all three
+        counts, prev, blocked_counts = _running(touched, blocked)
+    return View(ids, touched, counts, prev, nxt, nxt_id, blocked, blocked_counts)
+
+
+def _running(touched: Array, blocked: Array) -> tuple[Array, Array, Array]:
+    """:func:`prefix_count` of ``touched`` and of ``blocked`` and :func:`prev_touched`
+    of a batch laid out after the positions, in one pass from the start."""
+    zero = jnp.zeros(touched.shape[1:], jnp.int32)
+
+    def ahead(carry, k):  # counts up to k - 1, the last touched position before k
+        count, last, nblocked = carry
+        count = count + touched[k].astype(jnp.int32)
+        nblocked = nblocked + blocked[k].astype(jnp.int32)
+        out = (count, last, nblocked)
+        return (count, jnp.where(touched[k], k, last), nblocked), out
+
+    _, out = jax.lax.scan(ahead, (zero, zero, zero), jnp.arange(touched.shape[0]))
+    return out
 
 
 def _following(ids: Array, touched: Array) -> tuple[Array, Array]:
