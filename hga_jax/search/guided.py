@@ -21,7 +21,8 @@ and violations depend on the legs on both sides of them: a candidate whose legs 
 short and clear may still collide on an arc, and only its evaluation tells.
 
 Conventions as :mod:`hga_jax.search.path_ops`: one chromosome, ``perm`` (n,) and
-positional labels (n + 2,), a key and the scenario's ``Legs`` (with ``length``,
+positional labels (n + 2,), or a population laid out after the positions (the GA's
+form, :func:`guided_from_words`), a key and the scenario's ``Legs`` (with ``length``,
 ``bad`` and ``penalty``); pure, jit- and vmap-able. Ties go to the first candidate
 in the order above.
 """
@@ -121,9 +122,10 @@ def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array
     from its own words of ``w``, :data:`WORDS` in all) whose :func:`change` of the leg
     score is the smallest (the first of equals).
 
-    The candidates' plans are made side by side, then scored one after another in a
-    loop whose body holds :func:`change` once (a smaller program than ten written-out
-    scores, as fast)."""
+    The chromosome's :func:`~hga_jax.search.path_ops.view` is made once; a move's
+    candidates are planned side by side (a leading axis of ``PER_MOVE``), and the ten
+    plans are scored together by one :func:`change` (half the time and a smaller
+    program than scoring them one after another in a loop)."""
     if legs.length is None:
         raise ValueError("the guided move needs Legs with lengths (Scenario.search_arrays)")
     v = path_ops.view(perm, labels, legs)  # made once, for every candidate

@@ -21,7 +21,9 @@ circle), the way TSP moves act on a tour:
 
 Conventions (as :mod:`hga_jax.search.perm_crossover`): every move works on ONE chromosome,
 ``perm`` (n,) and *positional* labels (n + 2,) (docs/model.md), and returns the
-pair; it takes a key and the scenario's :class:`~hga_jax.model.legs.Legs` (only
+pair (the plans, :func:`view`, :func:`wrap_from_words` and the guided move also take a
+population laid out after the positions, ``perm`` (n, ...), labels (n + 2, ...): then
+every step is vector work across it; the GA uses that form); it takes a key and the scenario's :class:`~hga_jax.model.legs.Legs` (only
 ``repair`` reads it); shapes depend on ``n`` only; pure, jit- and vmap-able. A
 move that has nothing to act on (``drop`` with no touched obstacle, say) returns
 the chromosome unchanged (so does :func:`keep`, ``path_mutation = "none"``). Moving an obstacle from position ``j`` to position
