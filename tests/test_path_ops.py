@@ -577,6 +577,29 @@ def test_blockers_match_a_point_segment_distance_check(make):
     assert np.array_equal(again.blockers, L.blockers) and np.array_equal(again.blocked, L.blocked)
 
 
+@pytest.mark.parametrize("path", ["configs/scenarios/robocup_paper.toml",
+                                  "configs/scenarios/overlapping.toml"])
+def test_a_blocker_drawn_from_the_list_is_the_one_a_choice_over_the_row_takes(path):
+    """``Legs.listed`` holds each tangent's blockers in index order (then the rest) and
+    ``Legs.count`` how many; a word draws the same obstacle from them as a uniform choice
+    over the True entries of ``blockers[a, c]`` (0 where the tangent has none)."""
+    sc = load_scenario(path)
+    L = sc.search_arrays(np.float32, with_legs=True).legs
+    C = L.blocked.shape[0]
+    assert np.array_equal(L.count, L.blockers.sum(-1))
+    r = np.random.default_rng(3)
+    a, c = r.integers(0, C, 4000).astype(np.int32), r.integers(0, C, 4000).astype(np.int32)
+    w = r.integers(0, 2**32, 4000, dtype=np.uint64).astype(np.uint32)
+    got = np.asarray(jax.jit(lambda a, c, w: path_ops._blocker(L, a, c, w))(a, c, w))
+    row = np.asarray(L.blockers)[a, c]
+    want = np.asarray(jax.jit(jax.vmap(lambda m, w: path_ops._choose(m, w)[0]))(row, w))
+    np.testing.assert_array_equal(got, want)
+    hits = row.any(-1)
+    assert hits.mean() > 0.05 and (row.sum(-1) > 1).any()  # real draws among several
+    assert row[np.arange(4000)[hits], got[hits]].all()  # always a blocker where there is one
+    assert (got[~hits] == 0).all()
+
+
 def test_blockers_worked_example():
     """Start (0, 0) and goal (2, 0), both heading 0, model radius 0.18: the outer
     tangent start CW -> goal CW runs along y = 0 through obstacle 0 at (1, 0), passes
