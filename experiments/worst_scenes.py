@@ -1,6 +1,7 @@
 """Pictures of the scenes a study's configuration fails most: its worst scenes by hit
 rate, each drawn with the path most of its missing runs ended on (the exact optimum
-dashed over it), and a Markdown table of where those runs ended.
+the study measures against, its ``yardstick``, dashed over it), and a Markdown table
+of where those runs ended. Tight-rope and free-turn runs (drawn with their leg genes).
 
 Reads a finished study folder with the ``per_scene`` analysis (``per_scene_rates.csv``),
 reruns the worst cells (the same seed and runs, so the same results: run k depends on
@@ -58,6 +59,9 @@ def main(argv: list[str] | None = None) -> int:
     config = next((c for c in study.configs if c.label == label), None)
     if config is None or config.settings is None:
         return _fail(f"{manifest['source']}: configs: no GA configuration {label!r}")
+    if config.settings.turns not in ("tight-rope", "free"):
+        return _fail(f"{manifest['source']}: configs: {label!r} searches turns = "
+                     f"{config.settings.turns!r}; only tight-rope and free-turn runs are drawn")
     rates = pd.read_csv(rates_file)
     rates = rates[(rates["config"] == label) & (rates["hit_rate"] < args.below)]
     worst = rates.sort_values(["hit_rate", "scenario"]).head(args.count)
@@ -69,14 +73,15 @@ def main(argv: list[str] | None = None) -> int:
         sc = load_scenario(os.path.join(args.folder, "scenes", f"{r['scenario']}.toml"))
         res = hg.run_many(sc, config.settings, seed=study.seed, runs=int(r["runs"]),
                           turns=study.yardstick)
-        opt = solve(sc)
+        opt = solve(sc, turns=study.yardstick)  # the optimum the study's hits are taken to
         ends = collections.Counter(
             (round(float(length), 4), int(v)) for length, v, h in
             zip(res.length, res.violations, res.hit) if not h)
         (length, violations), count = ends.most_common(1)[0]
         k = next(i for i in range(len(res.length)) if not res.hit[i]
                  and (round(float(res.length[i]), 4), int(res.violations[i])) == (length, violations))
-        path = evaluate_path(sc, res.perm[k], res.labels[k])
+        legs = None if res.legs is None else res.legs[k]  # a free-turn run's leg genes
+        path = evaluate_path(sc, res.perm[k], res.labels[k], legs=legs)
         optimum = opt.path
         title = (f"{r['scenario']} ({label}): {100 * float(np.mean(res.hit)):.0f} % hit\n"
                  f"{count} of {len(res.length)} runs end at {length:.4f} m, "
