@@ -134,7 +134,7 @@ def test_the_change_of_a_plan_is_the_change_of_the_leg_score(plan, path):
     assert (np.asarray(d) != 0).mean() > 0.2  # real changes, not only no-ops
 
 
-@pytest.mark.parametrize("path", SCENES + ("configs/scenarios/overlapping.toml",))
+@pytest.mark.parametrize("path", SCENES[1:] + ("configs/scenarios/overlapping.toml",))
 def test_the_population_form_moves_each_chromosome_as_it_moves_alone(path):
     """The GA's form lays a population out after the positions (the running counts and
     neighbours made across it); each chromosome ends exactly as the one-chromosome move
@@ -144,17 +144,22 @@ def test_the_population_form_moves_each_chromosome_as_it_moves_alone(path):
     perm, labels = _random(sc.n, 64, seed=11)
     r = np.random.default_rng(4)
     words = r.integers(0, 2**32, (64, guided.WORDS), dtype=np.uint64).astype(np.uint32)
-    got = jax.jit(lambda w, p, lab: guided.guided_from_words(w, p, lab, legs))(words, perm, labels)
-    alone = jax.jit(jax.vmap(lambda w, p, lab: guided.guided_one(w, p, lab, legs)))(
-        words, perm, labels)
-    for a, b in zip(got, alone):
-        np.testing.assert_array_equal(a, b)
-    assert (np.asarray(got[1]) != labels).any()  # the moves did something
     w3 = r.integers(0, 2**32, (64, 3 * sc.n), dtype=np.uint64).astype(np.uint32)
     via = np.arange(64) % 2 == 1
-    got = jax.jit(lambda w, p, lab, v: path_ops.wrap_from_words(w.T, p.T, lab.T, legs, v))(
-        w3, perm, labels, via)
-    alone = jax.jit(jax.vmap(lambda w, p, lab, v: path_ops.wrap_from_words(w, p, lab, legs, v)))(
-        w3, perm, labels, via)
-    for a, b in zip(got, alone):
-        np.testing.assert_array_equal(np.asarray(a).T, b)
+
+    @jax.jit
+    def population(w, w3, p, lab, v):
+        moved = guided.guided_from_words(w, p, lab, legs)
+        wp, wl = path_ops.wrap_from_words(w3.T, p.T, lab.T, legs, v)
+        return (*moved, wp.T, wl.T)
+
+    @jax.jit
+    @jax.vmap
+    def alone(w, w3, p, lab, v):
+        return (*guided.guided_one(w, p, lab, legs), *path_ops.wrap_from_words(w3, p, lab, legs, v))
+
+    got, want = population(words, w3, perm, labels, via), alone(words, w3, perm, labels, via)
+    for a, b in zip(got, want):
+        np.testing.assert_array_equal(a, b)
+    assert (np.asarray(got[1]) != labels).any()  # the moves did something
+    assert (np.asarray(got[3]) != labels).any()  # and so did the wraps
