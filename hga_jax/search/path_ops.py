@@ -23,7 +23,8 @@ Conventions (as :mod:`hga_jax.search.perm_crossover`): every move works on ONE c
 ``perm`` (n,) and *positional* labels (n + 2,) (docs/model.md), and returns the
 pair (the plans, :func:`view`, :func:`wrap_from_words` and the guided move also take a
 population laid out after the positions, ``perm`` (n, ...), labels (n + 2, ...): then
-every step is vector work across it; the GA uses that form); it takes a key and the scenario's :class:`~hga_jax.model.legs.Legs` (only
+every step is vector work across it; the GA uses that form); it takes a key and the
+scenario's :class:`~hga_jax.model.legs.Legs` (only
 ``repair`` reads it); shapes depend on ``n`` only; pure, jit- and vmap-able. A
 move that has nothing to act on (``drop`` with no touched obstacle, say) returns
 the chromosome unchanged (so does :func:`keep`, ``path_mutation = "none"``). Moving an obstacle from position ``j`` to position
@@ -88,8 +89,7 @@ def prefix_count(mask: Array) -> Array:
             total = total + row.astype(jnp.int32)
             return total, total
 
-        return jax.lax.scan(add, jnp.zeros(mask.shape[1:], jnp.int32),
-                            jax.lax.optimization_barrier(mask))[1]
+        return jax.lax.scan(add, jnp.zeros(mask.shape[1:], jnp.int32), mask)[1]
     s = mask.shape[-1]
     lower = jnp.tril(jnp.ones((s, s), jnp.float32))
     counts = jnp.matmul(lower, mask.astype(jnp.float32), precision=jax.lax.Precision.HIGHEST)
