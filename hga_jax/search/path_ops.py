@@ -40,7 +40,7 @@ import jax.numpy as jnp
 from jax import Array
 
 from hga_jax.model.decode import circles_along
-from .permutation import ONEHOT_MAX_N, int_from_words, pick, take
+from .permutation import ONEHOT_MAX_N, int_from_words, lift, pick, take
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
 
@@ -54,14 +54,6 @@ def along(x: Array, m: int | None = None) -> Array:
     broadcast against ``x`` (positions first, any batch after)."""
     m = x.shape[0] if m is None else m
     return jnp.arange(m, dtype=jnp.int32).reshape((m,) + (1,) * (x.ndim - 1))
-
-
-def lift(x: Array, like: Array) -> Array:
-    """``x`` (m, ...) with axes of length 1 put after its first, so that its positions
-    broadcast against ``like``'s leading axes of candidates (several moves drawn for each
-    chromosome side by side: ``like`` has more axes than ``x`` after the positions)."""
-    extra = jnp.ndim(like) - (x.ndim - 1)
-    return x.reshape((x.shape[0],) + (1,) * extra + x.shape[1:]) if extra > 0 else x
 
 
 def _choose(mask: Array | None, word: Array, counts: Array | None = None
@@ -324,7 +316,7 @@ def next_touched(touched: Array) -> Array:
     s = touched.shape[0]
     pos = along(touched)
     if touched.ndim > 1:
-        return _next_after(touched)[0]
+        return _next_after(touched, jnp.broadcast_to(pos, touched.shape))[0]
     if s - 2 <= ONEHOT_MAX_N:
         later = touched[None, :] & (pos[None, :] > pos[:, None])  # (s, s)
         return jnp.min(jnp.where(later, pos[None, :], s - 1), axis=1)
@@ -338,21 +330,19 @@ def next_touched(touched: Array) -> Array:
     return v
 
 
-def _next_after(touched: Array, ids: Array | None = None) -> tuple[Array, Array | None]:
-    """:func:`next_touched` of a batch laid out after the positions, and the circle id
-    there (of ``ids``, if given): one pass from the goal back, carrying the first
-    touched position after the current one (and its id) across the batch."""
+def _next_after(touched: Array, ids: Array) -> tuple[Array, Array]:
+    """:func:`next_touched` of a batch laid out after the positions, and the value of
+    ``ids`` there (a circle id per position): one pass from the goal back, carrying the
+    first touched position after the current one and its value across the batch."""
     s = touched.shape[0]
     last = jnp.full(touched.shape[1:], s - 1, jnp.int32)
-    with_ids = ids is not None
-    ids = jnp.zeros_like(last)[None].repeat(s, 0) if ids is None else ids
 
     def back(after, k):  # after: the first touched position after k, and its id
         pos, id_ = after
         return (jnp.where(touched[k], k, pos), jnp.where(touched[k], ids[k], id_)), after
 
     _, (nxt, nxt_id) = jax.lax.scan(back, (last, ids[-1]), jnp.arange(s - 1, -1, -1))
-    return nxt[::-1], (nxt_id[::-1] if with_ids else None)
+    return nxt[::-1], nxt_id[::-1]
 
 
 def prev_touched(touched: Array) -> Array:

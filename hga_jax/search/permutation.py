@@ -66,12 +66,18 @@ def take(x: Array, idx: Array) -> Array:
     return jnp.sum(jnp.where(hit, x, 0), axis=-1, dtype=x.dtype)
 
 
+def lift(x: Array, like: Array) -> Array:
+    """``x`` (m, ...) with axes of length 1 put after its first, so that its positions
+    broadcast against ``like``'s leading axes of candidates (several moves drawn for each
+    chromosome side by side: ``like`` has more axes than ``x`` after the positions)."""
+    extra = jnp.ndim(like) - (x.ndim - 1)
+    return x.reshape((x.shape[0],) + (1,) * extra + x.shape[1:]) if extra > 0 else x
+
+
 def pick(x: Array, k: Array) -> Array:
     """``x[k]`` along the first axis: one entry per chromosome (``x`` (m, ...), ``k`` (...),
     which may add leading axes of its own: several look-ups per chromosome)."""
-    extra = jnp.ndim(k) - (x.ndim - 1)  # k's own leading axes (as path_ops.lift)
-    if extra > 0:
-        x = x.reshape((x.shape[0],) + (1,) * extra + x.shape[1:])
+    x = lift(x, k)
     shape = jnp.broadcast_shapes(x.shape[1:], jnp.shape(k))
     x = jnp.broadcast_to(x, x.shape[:1] + shape)
     return take(x, jnp.broadcast_to(k, shape)[None])[0]
