@@ -1,5 +1,6 @@
 """The guided path move (hga_jax/search/guided.py): its leg score against a plain-Python
-sum over the float64 tangent table and the float64 path's lines, the change a plan
+sum over the float64 tangent table and the decoder's start and goal arcs, and against
+the float64 path's lines and end arcs, the change a plan
 makes to it against the scores before and after, and the choice of the best-scored
 candidate."""
 import jax
@@ -9,7 +10,7 @@ import pytest
 
 from hga_jax.host.config import load_scenario
 from hga_jax.model.exact import solve
-from hga_jax.model.path import evaluate_path, from_chromosome
+from hga_jax.model.path import _Locator, decode64, evaluate_path, from_chromosome
 from hga_jax.search import guided, path_ops, rng
 
 SCENES = ("configs/scenarios/robocup_paper.toml", "configs/scenarios/cluttered.toml")
@@ -33,15 +34,32 @@ def _circle(position_label, obstacle=None, end=None):
     return 4 + 2 * obstacle + (1 - side)
 
 
+def _end_arcs(sc, perm, labels):
+    """``(length, violations)`` of the decoded path's start arc and of its goal arc."""
+    d = jax.tree.map(lambda a: a[0], decode64(sc, perm, labels))
+    locate, last = _Locator(sc, "full"), int(d.count) - 1
+    out = []
+    for s in (0, last):
+        circle = tuple(float(v) for v in d.circles[s])
+        arc = tuple(float(v) for v in d.arcs[s])
+        out.append((circle[2] * arc[4], len(locate.arc(circle, -1, arc, None))))
+    return out
+
+
 def _score_by_hand(sc, perm, labels):
-    """Sum over the legs of the touched sequence, from the float64 tangent table."""
+    """Sum over the legs of the touched sequence, from the float64 tangent table, the
+    first leg with the decoded start arc and the last with the goal arc."""
     tb = sc.arrays(np.float64).tangents
     seq = [_circle(labels[0], end="start")]
     seq += [_circle(lab, obstacle=o) for o, lab in zip(perm, labels[1:-1]) if lab != 0]
     seq.append(_circle(labels[-1], end="goal"))
-    length = sum(float(tb.length[a, c]) for a, c in zip(seq, seq[1:]))
-    bad = sum(int(tb.violations_full[a, c] > 0) for a, c in zip(seq, seq[1:]))
-    return length, bad
+    (start_len, start_vio), (goal_len, goal_vio) = _end_arcs(sc, perm, labels)
+    legs = list(zip(seq, seq[1:]))
+    length = sum(float(tb.length[a, c]) for a, c in legs) + start_len + goal_len
+    bad = [int(tb.violations_full[a, c] > 0) for a, c in legs]
+    bad[0] |= start_vio > 0
+    bad[-1] |= goal_vio > 0
+    return length, sum(bad)
 
 
 @pytest.mark.parametrize("path", SCENES)
@@ -60,12 +78,15 @@ def test_leg_score_is_the_summed_tangents_plus_a_penalty_per_bad_leg(path):
     for i in range(len(perm)):
         length, bad = _score_by_hand(sc, perm[i], labels[i])
         assert got[i] == pytest.approx(length + bad * sc.delta, rel=1e-12, abs=1e-12)
-        if bad == 0:  # then the score is the path's lines: its length without the arcs
-            clear += 1
+        if bad == 0:  # then the score is the path's lines and end arcs: its length
+            clear += 1  # without the arcs on obstacles
             p = evaluate_path(sc, perm[i], labels[i])
-            lines = sum(np.hypot(*np.subtract(s["end"], s["start"])) for s in p.segments
+            pieces = p.segments
+            ends = [x for x in (pieces[0], pieces[-1]) if x["type"] == "arc"]
+            lines = sum(np.hypot(*np.subtract(s["end"], s["start"])) for s in pieces
                         if s["type"] == "line")
-            assert got[i] == pytest.approx(lines, rel=1e-9, abs=1e-9)
+            arcs = sum(s["radius"] * abs(s["sweep"]) for s in ends)
+            assert got[i] == pytest.approx(lines + arcs, rel=1e-9, abs=1e-9)
     assert clear >= 1  # the comparison with the path was made
 
 

@@ -11,7 +11,9 @@ path (each scene's optimum is feasible). Measured when set (100 runs per scene, 
 11; the tests run the first 60): hga-jax 0.6 hit in every run on every scene of the
 four families (0.5: walled 100 %, obstructed at 15 obstacles 99.3 %, worst scene
 98 %); every run feasible. 60 runs at 9 obstacles: the paper's program is the one
-tests/test_recommended.py compiles.
+tests/test_recommended.py compiles. ``parking25`` (on demand) holds two development
+scenes of the forward car's parking-like poses (not held out: the two that hga-jax
+0.6 missed most, 93 % and 72 %), which 0.7's end arcs in the legs lifted to 100 %.
 """
 from __future__ import annotations
 
@@ -42,6 +44,10 @@ FAMILIES = {
     "clusters9": lambda: [generate("clusters", 9, 154, i, f"c9_{i}") for i in range(2)],
     "obstructed15": lambda: [generate("obstructed", 15, 152, i, f"o15_{i}") for i in range(3)],
     "obstructed25": lambda: [generate("obstructed", 25, 153, i, f"o25_{i}") for i in range(2)],
+    # the forward car's parking-like development scenes that 0.6 missed most (93 % and
+    # 72 % of 100 runs; a goal arc through an obstacle, a loop round the wrong robot)
+    "parking25": lambda: [generate("behind", 25, 161, i, f"b25_{i}", car="dubins")
+                          for i in (1, 5)],
 }
 
 FLOORS = {  # family: (pooled hit rate, worst scene's hit rate, feasible share)
@@ -49,13 +55,15 @@ FLOORS = {  # family: (pooled hit rate, worst scene's hit rate, feasible share)
     "clusters9": (0.98, 0.95, 1.0),
     "obstructed15": (0.98, 0.95, 1.0),
     "obstructed25": (0.98, 0.95, 1.0),
+    "parking25": (0.98, 0.95, 1.0),
 }
 
 
 @pytest.mark.parametrize("families", [
     ("walled", "clusters9"),  # one size: the two families share their two programs
     pytest.param(("obstructed15",), marks=pytest.mark.slow),
-    pytest.param(("obstructed25",), marks=pytest.mark.slow)], ids=lambda f: "+".join(f))
+    pytest.param(("obstructed25",), marks=pytest.mark.slow),
+    pytest.param(("parking25",), marks=pytest.mark.slow)], ids=lambda f: "+".join(f))
 def test_recommended_holds_its_floor_and_never_trails_the_paper(families):
     rec, paper = hg.preset("recommended"), hg.preset("paper")
     for family in families:

@@ -449,9 +449,12 @@ def test_wrap_blockers_leaves_a_clear_direct_path_alone():
 def test_wrap_blockers_leaves_no_blocked_leg_or_uses_n_steps(make):
     """On these scenes n steps always suffice: no leg between consecutive touched
     circles is blocked (legs.blocked looked up here, not through blocked_legs), unless
-    every obstacle is touched."""
+    every obstacle is touched. The tangents' own blockers (``legs.build``): the search's
+    legs add the end arcs' (``with_end_arcs``), and some of those draws then spend
+    their n steps moving touched obstacles to and fro."""
     sc = make()
-    legs, n = _legs(sc), sc.n
+    sa = sc.search_arrays(np.float64)
+    legs, n = legs_mod.build(sa.tangents, sa.centres, sa.model_radii), sc.n
     perm, labels = _random(n, 100, seed=5)
     p2, l2 = _run(path_ops.wrap_blockers, legs, perm, labels, seed=3)
     assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (100, 1)))
@@ -562,8 +565,9 @@ def _segment_distance(p1, p2, q):
 def test_blockers_match_a_point_segment_distance_check(make):
     sc = make()
     sa = sc.search_arrays(np.float64, "full", with_legs=True)
-    tb, L = sa.tangents, sa.legs
+    tb = sa.tangents
     n, C = sc.n, 2 * sc.n + 4
+    L = legs_mod.build(tb, sc.centres, sc.model_radii)  # the tangents alone
     assert L.blockers.shape == (C, C, n) and L.blocked.shape == (C, C)
     assert L.blockers.dtype == bool and L.blocked.dtype == bool
     p1 = np.stack([tb.p1x, tb.p1y], -1)[:, :, None, :]
@@ -573,8 +577,69 @@ def test_blockers_match_a_point_segment_distance_check(make):
     assert np.array_equal(np.asarray(L.blockers), expect)
     assert np.array_equal(np.asarray(L.blocked), expect.any(-1))
     assert 0.05 < expect.any(-1).mean() < 0.95  # a real mix of clear and blocked legs
-    again = legs_mod.build(tb, sc.centres, sc.model_radii)  # the same from build itself
-    assert np.array_equal(again.blockers, L.blockers) and np.array_equal(again.blocked, L.blocked)
+    # The search's legs add the goal arcs' blockers to the legs into a goal circle, and
+    # change no other leg's (a start arc's obstacles make its leg bad, not blocked).
+    ends = np.zeros((C, C), bool)
+    ends[:, 2:4] = True
+    got = np.asarray(sa.legs.blockers)
+    assert np.array_equal(got[~ends], expect[~ends])
+    assert np.all(got[ends] >= expect[ends])
+
+
+def _arc_points(cx, cy, r, sign, a, b, count=2001):
+    """Points along the circle (centre, radius, +1 CW / -1 CCW) from point a to point b."""
+    a0 = np.arctan2(a[1] - cy, a[0] - cx)
+    a1 = np.arctan2(b[1] - cy, b[0] - cx)
+    sweep = np.mod(-sign * (a1 - a0), 2 * np.pi)  # CW: the angle falls
+    t = a0 - sign * sweep * np.linspace(0.0, 1.0, count)
+    return np.stack([cx + r * np.cos(t), cy + r * np.sin(t)], -1), r * sweep
+
+
+@pytest.mark.parametrize("path", ["configs/scenarios/robocup_paper.toml",
+                                  "configs/scenarios/cluttered.toml"])
+def test_end_legs_carry_their_arcs_length_and_blockers_by_sampled_points(path):
+    """A leg out of a start circle carries the start arc (start pose to its departure
+    point), a leg into a goal circle the goal arc (its arrival point to the goal pose):
+    their lengths against r x sweep measured here, their violations and blockers
+    against points sampled along the arcs (an obstacle the points pass 1 mm inside
+    makes the leg bad, and is a blocker of a goal arc's leg but for the obstacle at
+    the leg's first circle; one they stay 1 mm clear of, and the segment too, is no
+    blocker; a start arc adds none)."""
+    sc = load_scenario(path)
+    sa = sc.search_arrays(np.float64, "full", with_legs=True)
+    tb, L = sa.tangents, sa.legs
+    seg = legs_mod.build(tb, sc.centres, sc.model_radii)
+    circles = np.asarray(tb.circles)
+    centres = np.asarray(sc.centres, np.float64).reshape(-1, 2)
+    radii = np.asarray(sc.model_radii, np.float64)
+    start, goal = np.asarray(sc.start[:2]), np.asarray(sc.goal[:2])
+    C, checked, met = circles.shape[0], 0, 0
+    for a in range(C):
+        for c in range(C):
+            arcs = []
+            if a < 2 and c >= 4:
+                arcs.append(_arc_points(*circles[a], start, (tb.p1x[a, c], tb.p1y[a, c])))
+            if 2 <= c < 4 and a >= 4:
+                arcs.append(_arc_points(*circles[c], (tb.p2x[a, c], tb.p2y[a, c]), goal))
+            if not arcs:
+                continue
+            checked += 1
+            length = tb.length[a, c] + sum(x[1] for x in arcs)
+            assert L.length[a, c] == pytest.approx(length, abs=1e-9)
+            pts = np.concatenate([x[0] for x in arcs])
+            d = np.linalg.norm(pts[:, None, :] - centres[None], axis=-1).min(0)
+            inside, clear = d < radii - 1e-3, d > radii + 1e-3
+            if a < 2:  # a start arc: its leg bad, no blockers added
+                assert np.array_equal(L.blockers[a, c], seg.blockers[a, c])
+            else:
+                other = np.arange(len(radii)) == tb.obstacle[a]
+                assert np.all(L.blockers[a, c][inside & ~other])
+                assert not np.any(L.blockers[a, c] & other & ~seg.blockers[a, c])
+            assert not np.any(L.blockers[a, c] & clear & ~seg.blockers[a, c])
+            if np.any(inside):
+                assert L.bad[a, c]
+                met += 1
+    assert checked > 50 and met > 0  # some end arcs meet an obstacle
 
 
 @pytest.mark.parametrize("path", ["configs/scenarios/robocup_paper.toml",

@@ -88,3 +88,24 @@ def test_per_scene_is_a_named_analysis():
     assert "per_scene" in NAMES and ANALYSES["per_scene"] is ps.per_scene
     assert set(NAMES) == set(ANALYSES)
     assert np.isfinite(ps.ALPHA)
+
+
+def test_a_scene_without_a_feasible_optimum_is_counted_apart_not_as_a_miss(tmp_path):
+    """A scene whose optimum is inf (no feasible path exists) is left out of the hit
+    rate, the worst scene and the feasible share, and counted in its own column; a row
+    all of whose scenes lack a path has no rates."""
+    none = _runs("rec", "x", 0, 0, 100).assign(optimum=math.inf)
+    table = pd.concat([_runs("rec", "a", 100, 100, 100), _runs("rec", "b", 97, 100, 100),
+                       none, _runs("rec", "y", 0, 0, 50, n=15).assign(optimum=math.inf)],
+                      ignore_index=True)
+    ps.per_scene(_study("rec"), table, [], None, str(tmp_path), draw=False)
+    rows = {int(r["obstacles"]): r for r in csv.DictReader(open(tmp_path / "per_scene.csv"))}
+    nine, fifteen = rows[9], rows[15]
+    assert int(nine["scenes"]) == 2 and int(nine["runs"]) == 200
+    assert float(nine["hit_rate"]) == pytest.approx(197 / 200)
+    assert nine["worst_scene"] == "b" and float(nine["feasible_rate"]) == 1.0
+    assert int(nine["scenes_without_path"]) == 1
+    assert int(fifteen["scenes"]) == 0 and int(fifteen["scenes_without_path"]) == 1
+    assert math.isnan(float(fifteen["hit_rate"]))
+    text = (tmp_path / "per_scene.md").read_text()
+    assert "scenes without a path (left out)" in text and "97.0 % (b)" in text

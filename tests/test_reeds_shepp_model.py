@@ -319,3 +319,24 @@ def test_run_takes_car_from_the_command_line(tmp_path, capsys):
     assert both["optimum"]["length"] <= forward["optimum"]["length"] + 1e-9
     assert main(["run", str(path), "--car", "bike", "--out", str(tmp_path / "b")]) == 2
     assert "--car: must be one of dubins, reeds-shepp" in capsys.readouterr().err
+
+
+def test_parking_families_for_the_forward_car_keep_scenes_it_can_drive():
+    """``car = "dubins"``: the same kinds of poses, kept where the forward car's tight-rope
+    optimum is feasible and expressible (a wall scene's start may face a wall it cannot
+    turn away from: such a draw is dropped); the Reeds–Shepp family is untouched."""
+    from hga_jax.study import parking
+
+    for kind in ("wall", "behind"):
+        d = parking.generate(kind, 9, 5, 0, "f", car="dubins")
+        assert d == parking.generate(kind, 9, 5, 0, "f", car="dubins")
+        sc = scenario_from_dict(d, kind)
+        assert sc.car == "dubins"
+        opt = solve(sc)
+        assert opt.turns == "tight-rope" and opt.feasible and opt.expressible
+    wall = scenario_from_dict(parking.generate("wall", 9, 5, 0, "f", car="dubins"), "w")
+    x, y = wall.start[:2]
+    w, h = 2.8, 2.3  # the RoboCup field the family keeps
+    assert min(x, y, w - x, h - y) <= 0.25 + 0.09 + 1e-9  # a start by the wall
+    rs = parking.generate("wall", 9, 5, 0, "f")
+    assert rs["robot"]["car"] == "reeds-shepp"

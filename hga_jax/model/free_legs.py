@@ -114,7 +114,8 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
     """:meth:`Scenario.search_arrays` (full collision rule) for free-turn chromosomes: with
     the :class:`LegTable` (``free_legs``) and its turn table (``turns_free``, None when it
     is too large or centres coincide: the fitness then decodes leg by leg), and with the
-    path operators' legs seeing gene 0's free legs (:func:`hga_jax.model.legs.free_aware`)."""
+    path operators' legs seeing gene 0's free legs (:func:`hga_jax.model.legs.free_aware`)
+    and the end arcs those legs make (:func:`hga_jax.model.legs.with_end_arcs`)."""
     dtype = np.dtype(dtype)
     sa = sc.search_arrays(dtype, "full", with_legs)
 
@@ -130,8 +131,13 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
                      turns_free=sc.cached(("turns_free", dtype.name), turns))
     if with_legs:
         def aware():
-            lg = leg_info.free_aware(sc.search_arrays(np.float64, "full", True).legs,
-                                     leg_table(sc))
+            s64, t = sc.arrays(np.float64), leg_table(sc)
+            tb = s64.tangents
+            lg = leg_info.free_aware(leg_info.build(tb, s64.centres, s64.model_radii,
+                                                    sc.delta), t)
+            gene0 = (t.p1x[0], t.p1y[0], t.p2x[0], t.p2y[0], t.coincident[0])
+            lg = leg_info.with_end_arcs(lg, tb, s64.start, s64.goal, s64.centres,
+                                        s64.model_radii, s64.bounds, gene0)
             return lg._replace(length=np.asarray(lg.length, dtype),
                                penalty=np.asarray(lg.penalty, dtype))
 

@@ -8,22 +8,35 @@ obstacles its segment passes through. They never search over whole paths.
 - ``blockers[a, c, j]``: the segment of the tangent ``a -> c`` comes closer to
   obstacle ``j``'s centre than its model radius (the full criterion of
   :func:`hga_jax.model.collision.segment_obstacles`; a missing tangent's stand-in
-  counts too).
+  counts too); with :func:`with_end_arcs`, also an obstacle that a goal arc meets.
 - ``blocked[a, c]``: some obstacle blocks the segment.
-- ``length[a, c]``: the length of the tangent's segment (m), as a TSP distance.
+- ``length[a, c]``: the length of the tangent's segment (m), as a TSP distance (with
+  :func:`with_end_arcs`, plus the start or goal arc of a first or last leg).
 - ``bad[a, c]``: the tangent has a violation of its own (an obstacle, the field,
-  a missing tangent: :mod:`hga_jax.model.tangents`).
+  a missing tangent: :mod:`hga_jax.model.tangents`; with :func:`with_end_arcs`, or its
+  end arc has one).
 - ``penalty``: the penalty per violation ``delta`` (m) of the fitness.
 - ``listed[a, c]`` and ``count[a, c]``: the blockers of ``a -> c`` in index order
   (the rest after them) and how many there are, so that a move draws a blocker in two
   look-ups (:func:`listed`).
 
-Nothing here depends on a path: an arc's length and violations depend on the
-legs before and after it, and only decoding a chromosome gives them.
+The start and goal arcs are part of the first and last legs (:func:`with_end_arcs`):
+the start arc runs from the start pose to where the leg leaving the start circle
+departs, the goal arc from where the leg into the goal circle arrives to the goal
+pose, so each depends on its one leg. A leg out of a start circle or into a goal
+circle counts its arc's length, and the arc's meeting an obstacle or leaving the
+field as a violation of its own. The obstacles a goal arc meets are blockers of its
+leg too (but the obstacle at the leg's first circle, already touched), so that a wrap
+moves the arrival on the goal circle past them; a start arc's are not (measured:
+wrapping them as well cost a development scene at 40 obstacles, whose start circle
+overlaps an obstacle that most first legs' arcs meet, 89 -> 66 % of runs; docs/results.md).
+Nothing else here depends on a path: an arc on an obstacle's circle depends on the
+legs before and after it, and only decoding a chromosome gives it.
 
 Under free turns (:func:`free_aware`) a pair whose tangent is bad but whose leg gene 0
 runs over a clear free circle (:class:`~hga_jax.model.free_legs.LegTable`) counts as
-clear, with that leg's length: the operators see the legs the decoder will take.
+clear, with that leg's length: the operators see the legs the decoder will take (and
+the end arcs are folded in from where those legs leave and arrive).
 
 Host code (numpy), built once per scenario from the float64 tangent table.
 """
@@ -33,6 +46,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from hga_jax.model import circle_ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from .tangents import TangentTable
@@ -80,6 +94,61 @@ def build(tb: TangentTable, centres, model_radii, penalty: float = 0.0) -> Legs:
     return Legs(blockers=hits, blocked=np.any(hits, axis=-1),
                 length=np.asarray(tb.length, f8), bad=np.asarray(tb.violations_full) > 0,
                 penalty=np.asarray(penalty, f8), listed=order, count=count)
+
+
+def with_end_arcs(legs: Legs, tb: TangentTable, start, goal, centres, model_radii,
+                  bounds, points=None) -> Legs:
+    """``legs`` (of :func:`build`) with the start and goal arcs in the legs they belong
+    to (module doc): for a leg ``a -> c`` out of a start circle ``a``, the arc on ``a``
+    from the start point to the leg's departure point; for a leg into a goal circle
+    ``c``, the arc on ``c`` from the leg's arrival point to the goal point (a direct leg
+    from a start to a goal circle has both). Each arc adds its length (m) to the leg's
+    and makes the leg bad when it meets an obstacle's model circle (the full rule) or
+    leaves the field ``bounds``; the obstacles a goal arc meets become blockers of its
+    leg, but the obstacle at the leg's first circle. Arcs measured as
+    :mod:`hga_jax.model.turns` measures them (float64). ``points``: ``(p1x, p1y, p2x,
+    p2y, coincident)`` (C, C) of the legs the path takes, where they are not the
+    tangents of ``tb`` (under free turns, gene 0's legs)."""
+    f8 = np.float64
+    tol = g.tolerances(f8)
+    circles = np.asarray(tb.circles, f8)
+    ids = np.arange(circles.shape[0])
+    centres = np.asarray(centres, f8).reshape(-1, 2)
+    obstacles = col.obstacles(centres, np.asarray(model_radii, f8).reshape(-1), ndim=1)
+    bounds = np.asarray(bounds, f8)
+    if points is None:
+        points = (tb.p1x, tb.p1y, tb.p2x, tb.p2y, tb.coincident)
+    p1x, p1y, p2x, p2y = (np.asarray(v, f8) for v in points[:4])
+    coincident = np.asarray(points[4], bool)
+    blockers, bad = legs.blockers.copy(), legs.bad.copy()
+    length = np.asarray(legs.length, f8).copy()
+
+    def fold(b, ax, ay, bx, by, rows, cols, other=None):
+        """The arcs on circle ``b`` from ``(ax, ay)`` to ``(bx, by)`` (1-D, one per leg
+        ``(rows[k], cols[k])``) added to those legs; with ``other`` (the obstacle at
+        each leg's other end), their obstacles as blockers but that one."""
+        cx, cy, r, sign = circles[b]
+        swp = g.sweep(ax - cx, ay - cy, bx - cx, by - cy, sign, tol.angle)
+        circle, arc = (cx, cy, r, sign), (ax, ay, bx, by, swp)
+        hits = col.arc_obstacles(circle, -1, arc, obstacles, tol.length, "full").T  # (k, n)
+        out = col.arc_leaves_field(circle, arc, bounds, tol.length)
+        length[rows, cols] += r * swp
+        bad[rows, cols] |= hits.any(axis=-1) | out
+        if other is not None:
+            blockers[rows, cols] |= hits & (np.arange(hits.shape[-1]) != other[:, None])
+
+    sx, sy, gx, gy = float(start[0]), float(start[1]), float(goal[0]), float(goal[1])
+    for b in ids[circle_ids.is_start(ids)]:
+        bx = np.where(coincident[b], sx, p1x[b])
+        by = np.where(coincident[b], sy, p1y[b])
+        fold(b, np.full_like(bx, sx), np.full_like(by, sy), bx, by, np.full_like(ids, b), ids)
+    for b in ids[circle_ids.is_goal(ids)]:
+        ax, ay = p2x[:, b], p2y[:, b]
+        fold(b, ax, ay, np.full_like(ax, gx), np.full_like(ay, gy), ids, np.full_like(ids, b),
+             np.asarray(tb.obstacle))
+    order, count = listed(blockers)
+    return legs._replace(blockers=blockers, blocked=np.any(blockers, axis=-1), bad=bad,
+                         length=length, listed=order, count=count)
 
 
 def free_aware(legs: Legs, table) -> Legs:

@@ -111,8 +111,10 @@ class Scenario:
         if with_legs:
             if "legs" not in self._turns:
                 s64 = self.arrays(np.float64)
-                self._turns["legs"] = legs.build(s64.tangents, s64.centres, s64.model_radii,
-                                                 self.delta)
+                built = legs.build(s64.tangents, s64.centres, s64.model_radii, self.delta)
+                self._turns["legs"] = legs.with_end_arcs(built, s64.tangents, s64.start,
+                                                         s64.goal, s64.centres,
+                                                         s64.model_radii, s64.bounds)
             typed = ("legs", np.dtype(dtype).name)  # lengths in the search's dtype
             if typed not in self._turns:
                 lg = self._turns["legs"]

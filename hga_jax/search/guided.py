@@ -3,9 +3,11 @@
 ``path_mutation = "guided"`` draws :data:`PER_MOVE` candidates from each move of
 :mod:`hga_jax.search.path_ops` (flip, drop, insert, shift, repair: ten in all) and
 keeps the one with the smallest :func:`leg_score`: the summed lengths of its legs
-plus the fitness's penalty ``delta`` for every leg with a violation of its own. That
-is the penalised length ``Dist_m`` without the arcs, read from the per-leg table
-(:mod:`hga_jax.model.legs`) the way a TSP move reads a distance matrix.
+plus the fitness's penalty ``delta`` for every leg with a violation of its own (the
+first leg carries the start arc and the last the goal arc, which depend on that leg
+alone). That is the penalised length ``Dist_m`` without the arcs on obstacles'
+circles, read from the per-leg table (:mod:`hga_jax.model.legs`) the way a TSP move
+reads a distance matrix.
 
 A candidate is scored by the change it makes (:func:`change`), as a 2-opt move is
 scored in a TSP: a move relocates one obstacle (or flips one end), so it removes at
@@ -16,9 +18,10 @@ alike alone and in any batch.
 
 Nothing is decoded: a guided move costs no evaluation, and the GA then evaluates
 the child it made, as every child (a run still evaluates ``population x
-(generations + 1)`` chromosomes). The score knows nothing of the arcs, whose length
-and violations depend on the legs on both sides of them: a candidate whose legs are
-short and clear may still collide on an arc, and only its evaluation tells.
+(generations + 1)`` chromosomes). The score knows nothing of the arcs on obstacles'
+circles, whose length and violations depend on the legs on both sides of them: a
+candidate whose legs are short and clear may still collide on such an arc, and only
+its evaluation tells.
 
 Conventions as :mod:`hga_jax.search.path_ops`: one chromosome, ``perm`` (n,) and
 positional labels (n + 2,), or a population laid out after the positions (the GA's
@@ -53,7 +56,8 @@ def weights(legs) -> Array:
 
 def leg_score(perm: Array, labels: Array, legs) -> Array:
     """Summed tangent lengths (m) of the legs of a chromosome's path, plus
-    ``legs.penalty`` for each leg with a violation of its own (arcs left out)."""
+    ``legs.penalty`` for each leg with a violation of its own (the start and goal arcs
+    counted in the first and last legs, the arcs on obstacles' circles left out)."""
     s = labels.shape[-1]
     ids, touched = path_ops.path_circles(perm, labels)
     nid = take(ids, path_ops.next_touched(touched))

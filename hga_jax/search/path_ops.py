@@ -13,8 +13,9 @@ circle), the way TSP moves act on a tour:
   place of the sequence;
 - ``shift`` (or-opt): move one touched obstacle, with its label, to a random place;
 - ``repair``: pick one leg of the path that runs through an obstacle (per-leg
-  information, :mod:`hga_jax.model.legs`) and wrap that obstacle, in a random
-  direction, between the leg's two circles; without a blocked leg, an ``insert``;
+  information, :mod:`hga_jax.model.legs`: the first leg's start arc and the last
+  leg's goal arc count with them) and wrap that obstacle, in a random direction,
+  between the leg's two circles; without a blocked leg, an ``insert``;
 - :func:`wrap_blockers` builds a whole path that way from the direct one (the
   GA's ``seeding``);
 - ``mixed``: one of the five above, uniformly.

@@ -16,7 +16,10 @@ its optimum. The RoboCup robots (radius 0.09 m, rho 0.15 m) on the RoboCup field
   degrees, the goal 2-8 rho away with a uniform heading.
 
 A scene is kept only when the Reeds–Shepp optimum exists and is shorter than the
-free-turn (forward only) optimum by at least :data:`MIN_SAVING`. Scene ``i`` with ``n``
+free-turn (forward only) optimum by at least :data:`MIN_SAVING`. A family whose
+``car = "dubins"`` holds the same kinds of poses for the forward car: its scenes
+are kept where the forward car's tight-rope optimum is feasible and expressible
+(a start facing a wall it cannot turn away from is dropped, not counted as a miss). Scene ``i`` with ``n``
 obstacles of seed ``s`` depends on ``(s, n, i)`` alone. Units: metres and degrees (as
 in a scenario file).
 """
@@ -26,6 +29,7 @@ import math
 
 import numpy as np
 
+from hga_jax.model.exact import solve
 from hga_jax.model.reeds_shepp_model import REEDS_SHEPP
 from . import scene_files
 
@@ -102,12 +106,30 @@ def kept(sc) -> bool:
     return rs.feasible and rs.length <= (1 - MIN_SAVING) * free
 
 
+def kept_forward(sc) -> bool:
+    """The keep rule for the forward car: its tight-rope optimum is feasible and a
+    chromosome expresses it (no obstacle touched twice)."""
+    opt = solve(sc)
+    return bool(opt.feasible and opt.expressible)
+
+
 def generate(kind: str, n: int, seed: int, index: int, name: str,
-             density: float | None = None) -> dict:
+             density: float | None = None, car: str | None = None) -> dict:
     """Scene ``index`` with ``n`` obstacles of a ``kind`` family (:data:`KINDS`) with
-    ``seed``: a scenario mapping; ``density`` must be None."""
+    ``seed``: a scenario mapping; ``density`` must be None. ``car``: the scene's car
+    (default the Reeds–Shepp car); for the forward car (``"dubins"``) the same draws
+    are kept by :func:`kept_forward` instead: parking-like poses that the forward car
+    can drive, whatever reversing would save."""
     if density is not None:
         raise ValueError(f"{kind} scenes take no density")
     rng = np.random.default_rng([seed, n, index, STREAM])
-    return scene_files.first_kept(lambda: draw(kind, rng, n, name), kept, name, MAX_TRIES,
-                                  f"{kind} scene with {n} obstacles")
+    forward = car is not None and car != REEDS_SHEPP.car
+
+    def candidate():
+        d = draw(kind, rng, n, name)
+        if d is not None and forward:
+            d["robot"]["car"] = car
+        return d
+
+    return scene_files.first_kept(candidate, kept_forward if forward else kept, name,
+                                  MAX_TRIES, f"{kind} scene with {n} obstacles")

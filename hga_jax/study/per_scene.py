@@ -10,6 +10,10 @@ Per configuration, scene family and obstacle count (``per_scene.csv``,
 - feasible share: runs whose best path is collision-free under the full test, over
   all runs and on the worst scene (every scene a generator keeps has a feasible
   optimum, so an infeasible run is a failure of the search);
+- scenes without a path: a scene whose optimum is infeasible (no feasible path
+  exists: a scene file, or a generator's scene driven by another car) is left out of
+  every figure above and counted apart, since no run can hit it and a run that ends
+  infeasible there is right;
 - evaluations per run and GA ms per run;
 - paired against the study's first configuration, scene by scene: the scenes where
   the first configuration's hit rate is lower than this one's by a two-sided
@@ -55,9 +59,10 @@ def target(n: int) -> tuple[float, float, float] | None:
 
 def _rates(scenes: pd.DataFrame, family: str, n: int, config: str) -> pd.DataFrame:
     """One configuration's scenes of a family and size from :func:`summary.by_scene`'s
-    rows: ``runs``, ``hits`` and ``feasible`` (share), indexed by scenario."""
+    rows that have a feasible optimum: ``runs``, ``hits`` and ``feasible`` (share),
+    indexed by scenario."""
     m = scenes[(scenes["family"] == family) & (scenes["obstacles"] == n)
-               & (scenes["config"] == config)]
+               & (scenes["config"] == config) & np.isfinite(scenes["optimum"])]
     return pd.DataFrame({"runs": m["runs"].to_numpy(),
                          "hits": np.rint(m["hit_rate"] * m["runs"]).astype(int).to_numpy(),
                          "feasible": m["feasible_rate"].to_numpy()},
@@ -82,6 +87,12 @@ def per_scene(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any, folder
                 if not m.any():
                     continue
                 per = _rates(scenes, fam, n, c.label)
+                mine = scenes[(scenes["family"] == fam) & (scenes["obstacles"] == n)
+                              & (scenes["config"] == c.label)]
+                no_path = int((~np.isfinite(mine["optimum"])).sum())
+                if per.empty:  # no scene of the row has a path
+                    out.append(_no_path_row(c.label, fam, int(n), no_path))
+                    continue
                 rate = per["hits"] / per["runs"]
                 k, runs = int(per["hits"].sum()), int(per["runs"].sum())
                 lo, hi = stats.wilson(k, runs)
@@ -117,6 +128,7 @@ def per_scene(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any, folder
                     "worst_scene_feasible_rate": float(per["feasible"].min()),
                     "evaluations_per_run": float(np.mean(evals[m])),
                     "ga_ms_per_run": 1000 * float(np.mean(time_s[m])),
+                    "scenes_without_path": no_path,
                     "scenes_reference_lower": lower if c.label != ref else 0,
                     "reference_largest_shortfall": shortfall if c.label != ref else 0.0,
                 }
@@ -140,6 +152,19 @@ def per_scene(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any, folder
     return files
 
 
+def _no_path_row(config: str, family: str, n: int, no_path: int) -> dict[str, Any]:
+    """The row of a family and size none of whose scenes has a feasible path."""
+    nan = math.nan
+    return {"config": config, "family": family, "obstacles": n, "scenes": 0, "runs": 0,
+            "hit_rate": nan, "hit_rate_ci_low": nan, "hit_rate_ci_high": nan,
+            "worst_scene": "-", "worst_scene_hit_rate": nan, "scene_hit_rate_p10": nan,
+            "scene_hit_rate_median": nan, "feasible_rate": nan,
+            "worst_scene_feasible_rate": nan, "evaluations_per_run": nan,
+            "ga_ms_per_run": nan, "scenes_without_path": no_path,
+            "scenes_reference_lower": 0, "reference_largest_shortfall": 0.0,
+            "scenes_below_floor": 0, "meets_targets": None}
+
+
 def _markdown(out: list[dict], ref: str) -> str:
     def pct(v):
         return "-" if isinstance(v, float) and math.isnan(v) else f"{100 * v:.1f} %"
@@ -147,21 +172,26 @@ def _markdown(out: list[dict], ref: str) -> str:
     rows = [{
         "config": r["config"], "family": r["family"], "n": r["obstacles"],
         "scenes": r["scenes"], "runs": f"{r['runs']:,}",
-        "hit rate [95% Wilson]": f"{pct(r['hit_rate'])} [{100 * r['hit_rate_ci_low']:.1f}, "
-                                 f"{100 * r['hit_rate_ci_high']:.1f}]",
+        "hit rate [95% Wilson]": ("-" if math.isnan(r["hit_rate"]) else
+                                  f"{pct(r['hit_rate'])} [{100 * r['hit_rate_ci_low']:.1f}, "
+                                  f"{100 * r['hit_rate_ci_high']:.1f}]"),
         "worst scene": f"{pct(r['worst_scene_hit_rate'])} ({r['worst_scene']})",
         "p10 / median scene": f"{pct(r['scene_hit_rate_p10'])} / "
                               f"{pct(r['scene_hit_rate_median'])}",
         "scenes below floor": r["scenes_below_floor"],
         "feasible (worst scene)": f"{pct(r['feasible_rate'])} "
                                   f"({pct(r['worst_scene_feasible_rate'])})",
-        "evaluations per run": f"{r['evaluations_per_run']:,.0f}",
-        "GA ms/run": f"{r['ga_ms_per_run']:.2f}",
+        "evaluations per run": ("-" if math.isnan(r["evaluations_per_run"]) else
+                                f"{r['evaluations_per_run']:,.0f}"),
+        "GA ms/run": "-" if math.isnan(r["ga_ms_per_run"]) else f"{r['ga_ms_per_run']:.2f}",
         f"scenes where {ref} is lower": ("-" if r["config"] == ref else
                                          f"{r['scenes_reference_lower']} (largest shortfall "
                                          f"{pct(r['reference_largest_shortfall'])})"),
         "targets": {True: "met", False: "not met", None: "-"}[r["meets_targets"]],
     } for r in out]
+    if any(r.get("scenes_without_path", 0) for r in out):
+        for row, r in zip(rows, out):
+            row["scenes without a path (left out)"] = r.get("scenes_without_path", 0)
     floors = "; ".join(f"up to {top}: hit rate {100 * a:g} %, every scene {100 * b:g} %, "
                        f"feasible {100 * c:g} %" for top, a, b, c in TARGETS)
     return (markdown(pd.DataFrame(rows)) + "\n\nTargets (the floor is a scene's hit rate): "

@@ -16,7 +16,8 @@ right edge, headings within 60 degrees of +x.
 - ``loops`` and ``cluster_loops`` (:mod:`hga_jax.study.loops`): poses a few turning
   radii apart, kept where free turns beat the tight rope (for ``turns = "free"``).
 - ``behind``, ``slot`` and ``wall`` (:mod:`hga_jax.study.parking`): parking-like poses
-  of a Reeds–Shepp car, kept where reversing shortens the path.
+  of a Reeds–Shepp car, kept where reversing shortens the path (with ``car =
+  "dubins"``: where the forward car has a feasible, expressible optimum).
 
 Every kept scene has a feasible optimum that a chromosome expresses (touching
 each obstacle at most once; with leg genes for the free-turn families), so a GA run
@@ -68,8 +69,10 @@ def _poses(rng: np.random.Generator, w: float, h: float) -> tuple[list[float], l
 
 
 def generate(kind: str, n: int, seed: int, index: int, name: str,
-             density: float | None = None) -> dict:
-    """Scene ``index`` with ``n`` obstacles of a ``kind`` family with ``seed``: a mapping."""
+             density: float | None = None, car: str | None = None) -> dict:
+    """Scene ``index`` with ``n`` obstacles of a ``kind`` family with ``seed``: a mapping.
+    ``car``: the family's car, which the parking-like kinds keep their scenes for (the
+    other kinds draw and keep alike for any car; the caller sets it)."""
     if kind == "clusters":
         from . import clusters
 
@@ -85,7 +88,7 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
     if kind in ("behind", "slot", "wall"):
         from . import parking
 
-        return parking.generate(kind, n, seed, index, name, density)
+        return parking.generate(kind, n, seed, index, name, density, car)
     rng = np.random.default_rng([seed, n, index])
     w, h = field_size(n, density)
     for _ in range(MAX_TRIES):
@@ -116,7 +119,7 @@ def family_scenes(fam: Family, folder: str) -> list[Scene]:
     for n in fam.obstacles:
         for i in range(fam.scenes):
             name = f"{fam.name}_n{n:03d}_{i:03d}"
-            d = generate(fam.kind, n, fam.seed, i, name, fam.density)
+            d = generate(fam.kind, n, fam.seed, i, name, fam.density, fam.car)
             if fam.car is not None:
                 d["robot"]["car"] = fam.car
             text = to_toml(d, f"{fam.kind} scene {i} with {n} obstacles of family {fam.name!r} "
