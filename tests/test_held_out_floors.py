@@ -8,8 +8,8 @@ floor sits a little under the rate measured when it was set (the runs are seeded
 a change that moves a floor changed the search). The recommended preset may not end
 worse than the paper's on any scene, and every run of it ends on a collision-free
 path (each scene's optimum is feasible). Measured when set (100 runs per scene, seed
-11; the tests run the first 60): hga-jax 0.6 hit in every run on every scene of the
-four families (0.5: walled 100 %, obstructed at 15 obstacles 99.3 %, worst scene
+11; the tests run the first 60): hga-jax 0.6 and 0.7 hit in every run on every scene
+of the four families (0.5: walled 100 %, obstructed at 15 obstacles 99.3 %, worst scene
 98 %); every run feasible. 60 runs at 9 obstacles: the paper's program is the one
 tests/test_recommended.py compiles. ``parking25`` (on demand) holds two development
 scenes of the forward car's parking-like poses (not held out: the two that hga-jax
