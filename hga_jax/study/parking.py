@@ -19,8 +19,8 @@ A scene is kept only when the Reeds–Shepp optimum exists and is shorter than t
 free-turn (forward only) optimum by at least :data:`MIN_SAVING`. A family whose
 ``car = "dubins"`` holds the same kinds of poses for the forward car: its scenes
 are kept where the forward car's tight-rope optimum is feasible and expressible
-(a start facing a wall it cannot turn away from is dropped, not counted as a miss). Scene ``i`` with ``n``
-obstacles of seed ``s`` depends on ``(s, n, i)`` alone. Units: metres and degrees (as
+(a start facing a wall it cannot turn away from is dropped, not counted as a miss).
+Scene ``i`` with ``n`` obstacles of seed ``s`` depends on ``(s, n, i)`` alone. Units: metres and degrees (as
 in a scenario file).
 """
 from __future__ import annotations
