@@ -267,3 +267,48 @@ def test_u_turn_free_leg_agrees_in_float32_and_float64():
         e = ev(free_legs.search_arrays(sc, np.float32), perm, labels, "full", legs)
         np.testing.assert_allclose(np.asarray(e.length), math.pi * 0.25, rtol=0, atol=1e-5)
         assert np.all(np.asarray(e.violations) == 0)
+
+
+@pytest.mark.parametrize("path", ["configs/scenarios/robocup_paper.toml",
+                                  "configs/scenarios/cluttered.toml"])
+def test_an_end_leg_is_clear_where_another_genes_free_leg_and_its_arc_are(path):
+    """Under free turns the operators' end legs carry the end arcs of gene 0's legs; one
+    whose gene-0 arc meets an obstacle or the field counts as clear where a free leg of
+    another gene, with its own end arc, is clear, and takes that leg's length: checked
+    against points sampled along that arc (at least 1 mm clear of every model circle and
+    inside the kept field) and its r x sweep."""
+    from hga_jax.host.config import load_scenario
+    from hga_jax.model import legs as leg_info
+    from test_path_ops import _arc_points
+
+    sc = load_scenario(path)
+    s64, t = sc.arrays(np.float64), free_legs.leg_table(sc)
+    tb = s64.tangents
+    plain = leg_info.build(tb, s64.centres, s64.model_radii, sc.delta)
+    base = leg_info.free_aware(plain, t)
+    gene0 = leg_info.with_end_arcs(base, tb, s64.start, s64.goal, s64.centres,
+                                   s64.model_radii, s64.bounds,
+                                   (t.p1x[0], t.p1y[0], t.p2x[0], t.p2y[0], t.coincident[0]))
+    got = free_legs.search_arrays(sc, np.float64, True).legs
+    cleared = np.argwhere(gene0.bad & ~np.asarray(got.bad))
+    assert len(cleared) >= 1  # the rule is exercised on this scene
+    circles, centres = np.asarray(tb.circles), np.asarray(s64.centres).reshape(-1, 2)
+    radii, (x0, x1, y0, y1) = np.asarray(s64.model_radii), np.asarray(s64.bounds)
+    for a, c in cleared:
+        ok = []
+        for v in range(1, free_legs.VARIANTS):
+            if not t.free[v][a, c]:
+                continue
+            arcs = []
+            leave, arrive = (t.p1x[v][a, c], t.p1y[v][a, c]), (t.p2x[v][a, c], t.p2y[v][a, c])
+            if a < 2:
+                arcs.append(_arc_points(*circles[a], sc.start[:2], leave))
+            if 2 <= c < 4:
+                arcs.append(_arc_points(*circles[c], arrive, sc.goal[:2]))
+            pts = np.concatenate([p for p, _ in arcs])
+            d = np.linalg.norm(pts[:, None] - centres[None], axis=-1) - radii[None]
+            inside = ((pts[:, 0] > x0 - 1e-3) & (pts[:, 0] < x1 + 1e-3)
+                      & (pts[:, 1] > y0 - 1e-3) & (pts[:, 1] < y1 + 1e-3)).all()
+            if d.min() > -1e-3 and inside:
+                ok.append(abs(got.length[a, c] - t.length[v][a, c] - sum(x for _, x in arcs)))
+        assert ok and min(ok) < 1e-9, (a, c)

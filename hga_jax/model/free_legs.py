@@ -115,7 +115,9 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
     the :class:`LegTable` (``free_legs``) and its turn table (``turns_free``, None when it
     is too large or centres coincide: the fitness then decodes leg by leg), and with the
     path operators' legs seeing gene 0's free legs (:func:`hga_jax.model.legs.free_aware`)
-    and the end arcs those legs make (:func:`hga_jax.model.legs.with_end_arcs`)."""
+    and the end arcs those legs make (:func:`hga_jax.model.legs.with_end_arcs`); an end
+    leg whose gene-0 arc has a violation counts as clear where another gene's free leg
+    and its arc are."""
     dtype = np.dtype(dtype)
     sa = sc.search_arrays(dtype, "full", with_legs)
 
@@ -133,11 +135,26 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
         def aware():
             s64, t = sc.arrays(np.float64), leg_table(sc)
             tb = s64.tangents
-            lg = leg_info.free_aware(leg_info.build(tb, s64.centres, s64.model_radii,
-                                                    sc.delta), t)
-            gene0 = (t.p1x[0], t.p1y[0], t.p2x[0], t.p2y[0], t.coincident[0])
-            lg = leg_info.with_end_arcs(lg, tb, s64.start, s64.goal, s64.centres,
-                                        s64.model_radii, s64.bounds, gene0)
+            base = leg_info.free_aware(leg_info.build(tb, s64.centres, s64.model_radii,
+                                                      sc.delta), t)
+
+            def arcs(v, legs):  # with the end arcs of gene v's legs
+                pts = (t.p1x[v], t.p1y[v], t.p2x[v], t.p2y[v], t.coincident[v])
+                return leg_info.with_end_arcs(legs, tb, s64.start, s64.goal, s64.centres,
+                                              s64.model_radii, s64.bounds, pts)
+
+            lg = arcs(0, base)
+            # An end leg whose gene-0 leg meets an obstacle or the field on its end arc,
+            # but whose free leg of another gene is clear with its own end arc, counts
+            # as clear, with that leg's length (the genes can take it; free_aware's
+            # rule for a blocked tangent, carried to the end arcs).
+            for v in range(1, VARIANTS):
+                free = np.asarray(t.free[v], bool)
+                alt = arcs(v, base._replace(length=np.where(free, t.length[v], base.length),
+                                            bad=base.bad & ~free))
+                take = lg.bad & ~alt.bad
+                lg = lg._replace(bad=lg.bad & ~take, length=np.where(take, alt.length,
+                                                                        lg.length))
             return lg._replace(length=np.asarray(lg.length, dtype),
                                penalty=np.asarray(lg.penalty, dtype))
 
