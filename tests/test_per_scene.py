@@ -92,9 +92,10 @@ def test_per_scene_is_a_named_analysis():
 
 def test_a_scene_without_a_feasible_optimum_is_counted_apart_not_as_a_miss(tmp_path):
     """A scene whose optimum is inf (no feasible path exists) is left out of the hit
-    rate, the worst scene and the feasible share, and counted in its own column; a row
+    rate, the worst scene, the feasible share and the time per run, and counted in its
+    own column; a row
     all of whose scenes lack a path has no rates."""
-    none = _runs("rec", "x", 0, 0, 100).assign(optimum=math.inf)
+    none = _runs("rec", "x", 0, 0, 100).assign(optimum=math.inf, time_s=1.0)
     table = pd.concat([_runs("rec", "a", 100, 100, 100), _runs("rec", "b", 97, 100, 100),
                        none, _runs("rec", "y", 0, 0, 50, n=15).assign(optimum=math.inf)],
                       ignore_index=True)
@@ -105,6 +106,7 @@ def test_a_scene_without_a_feasible_optimum_is_counted_apart_not_as_a_miss(tmp_p
     assert float(nine["hit_rate"]) == pytest.approx(197 / 200)
     assert nine["worst_scene"] == "b" and float(nine["feasible_rate"]) == 1.0
     assert int(nine["scenes_without_path"]) == 1
+    assert float(nine["ga_ms_per_run"]) == pytest.approx(2.0)  # its runs' time left out
     assert int(fifteen["scenes"]) == 0 and int(fifteen["scenes_without_path"]) == 1
     assert math.isnan(float(fifteen["hit_rate"]))
     text = (tmp_path / "per_scene.md").read_text()

@@ -207,3 +207,26 @@ def test_run_table_files_keep_values_and_missing_ones(tmp_path):
     md = table.markdown(pd.DataFrame([["x", "1.5%"]], columns=["configuration", "hit rate"]))
     assert md.splitlines()[0] == "| configuration | hit rate |"
     assert md.splitlines()[2] == "| x | 1.5% |"
+
+
+def test_a_family_that_keeps_no_scene_is_a_one_line_error_naming_the_file(tmp_path, capsys,
+                                                                         monkeypatch):
+    """A generator that finds no scene in its tries (a crowded field, a keep rule no draw
+    meets) stops the study with one line naming the study file and the family, before
+    any cell runs; nothing is written to the output folder's cells."""
+    from hga_jax.study import run as study_run
+
+    def crowded(fam, folder):
+        raise RuntimeError(f"no wall scene with {fam.obstacles[0]} obstacles found in 400 tries")
+
+    monkeypatch.setattr(study_run, "family_scenes", crowded)
+    path = tmp_path / "s.toml"
+    path.write_text('name = "s"\nseed = 0\nruns = 2\n[[families]]\nname = "w"\nkind = "wall"\n'
+                    'obstacles = [60]\nscenes = 1\nseed = 1\ncar = "dubins"\n'
+                    '[[configs]]\nlabel = "paper"\n')
+    out = tmp_path / "out"
+    assert main(["study", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(path) in err[0] and "families[1] ('w')" in err[0]
+    assert "400 tries" in err[0]
+    assert not (out / "cells").exists() or not os.listdir(out / "cells")

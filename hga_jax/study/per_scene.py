@@ -57,16 +57,18 @@ def target(n: int) -> tuple[float, float, float] | None:
     return None
 
 
-def _rates(scenes: pd.DataFrame, family: str, n: int, config: str) -> pd.DataFrame:
+def _rates(scenes: pd.DataFrame, family: str, n: int, config: str) -> tuple[pd.DataFrame, int]:
     """One configuration's scenes of a family and size from :func:`summary.by_scene`'s
     rows that have a feasible optimum: ``runs``, ``hits`` and ``feasible`` (share),
-    indexed by scenario."""
+    indexed by scenario; and how many of its scenes have none."""
     m = scenes[(scenes["family"] == family) & (scenes["obstacles"] == n)
-               & (scenes["config"] == config) & np.isfinite(scenes["optimum"])]
+               & (scenes["config"] == config)]
+    path = np.isfinite(m["optimum"].to_numpy(float))
+    m = m[path]
     return pd.DataFrame({"runs": m["runs"].to_numpy(),
                          "hits": np.rint(m["hit_rate"] * m["runs"]).astype(int).to_numpy(),
                          "feasible": m["feasible_rate"].to_numpy()},
-                        index=m["scenario"].to_numpy())
+                        index=m["scenario"].to_numpy()), int((~path).sum())
 
 
 def per_scene(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any, folder: str,
@@ -75,24 +77,23 @@ def per_scene(study: Any, tab: pd.DataFrame, docs: list[dict], rows: Any, folder
     config, family = tab["config"].to_numpy(), tab["family"].to_numpy()
     obstacles = tab["obstacles"].to_numpy()
     evals, time_s = numeric(tab, "evaluations"), numeric(tab, "time_s")
+    has_path = np.isfinite(numeric(tab, "optimum"))  # runs on scenes with a feasible path
     ref = study.configs[0].label
     scenes = pd.DataFrame(summary.by_scene(tab, [c.label for c in study.configs]))
     out, scenes_out = [], []
     for fam in dict.fromkeys(family.tolist()):
         for n in sorted(set(obstacles[family == fam].tolist())):
             group = (family == fam) & (obstacles == n)
-            base = _rates(scenes, fam, n, ref)
+            base, _ = _rates(scenes, fam, n, ref)
             for c in study.configs:
                 m = group & (config == c.label)
                 if not m.any():
                     continue
-                per = _rates(scenes, fam, n, c.label)
-                mine = scenes[(scenes["family"] == fam) & (scenes["obstacles"] == n)
-                              & (scenes["config"] == c.label)]
-                no_path = int((~np.isfinite(mine["optimum"])).sum())
+                per, no_path = _rates(scenes, fam, n, c.label)
                 if per.empty:  # no scene of the row has a path
                     out.append(_no_path_row(c.label, fam, int(n), no_path))
                     continue
+                m &= has_path
                 rate = per["hits"] / per["runs"]
                 k, runs = int(per["hits"].sum()), int(per["runs"].sum())
                 lo, hi = stats.wilson(k, runs)

@@ -23,6 +23,7 @@ import pandas as pd
 from hga_jax import compiled
 from hga_jax.host.config import load_scenario
 
+from hga_jax.errors import ConfigError
 from hga_jax.host.output import write_file, write_json
 from hga_jax.model import car_model
 from hga_jax.running.results import json_safe
@@ -75,8 +76,12 @@ def scenes_of(study: Study, folder: str) -> list[Scene]:
         sc = load_scenario(path)
         with open(path) as fh:
             out.append(Scene(sc.name, "files", path, sc, fh.read()))
-    for fam in study.families:
-        out += family_scenes(fam, os.path.join(folder, "scenes"))
+    for i, fam in enumerate(study.families):
+        try:
+            out += family_scenes(fam, os.path.join(folder, "scenes"))
+        except RuntimeError as e:  # a generator that keeps no scene in its tries
+            raise ConfigError(f"{study.source}: families[{i + 1}] ({fam.name!r}): {e}; "
+                              "fewer obstacles or another kind may do") from None
     return out
 
 
