@@ -130,6 +130,16 @@ def test_the_ga_reads_as_many_words_as_the_guided_move_takes():
     assert op.rows(9, RECOMMENDED) == guided.WORDS == 26
 
 
+@pytest.mark.parametrize("shape", [(10,), (10, 2000), (3, 7, 5)])
+def test_first_min_is_argmin_taking_the_first_of_equals(shape):
+    # few distinct values, so most columns hold ties; the first of equals must win
+    x = np.random.default_rng(3).integers(0, 3, shape).astype(np.float32)
+    x[..., :1] = 2.0  # and some columns whose minimum comes late
+    got = np.asarray(jax.jit(guided.first_min)(jnp.asarray(x)))
+    np.testing.assert_array_equal(got, np.argmin(x, axis=0))
+    assert got.dtype == np.int32
+
+
 @pytest.mark.parametrize("plan", path_ops.PLANS, ids=lambda f: f.__name__)
 @pytest.mark.parametrize("path", SCENES[1:])
 def test_the_change_of_a_plan_is_the_change_of_the_leg_score(plan, path):

@@ -31,6 +31,7 @@ in the order above.
 """
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 from jax import Array
 
@@ -104,14 +105,16 @@ def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array) -
     o = pick(perm, plan.j) if n else jnp.int32(0)
     c_new = circle_ids.obstacle(o, circle_ids.side(plan.label))
     enters = (plan.label != 0) & (n > 0)
-    # an end flipped: its one leg (circles flip by their last bit)
-    e = jnp.maximum(plan.end, 0)
+    # an end flipped: its one leg (circles flip by their last bit); the four legs are
+    # looked up once per chromosome, not per candidate (per candidate they cost 3.2 of
+    # the 8.3 ms of view, plans and scores of 1,000 runs x 50 at 9 obstacles)
     flipped = plan.end >= 0
-    first = e == 0
-    c_end = jnp.where(first, v.ids[0], v.ids[-1])
-    c_nb = jnp.where(first, v.nxt_id[0], pick(v.ids, v.prev[-1]))
-    old_end = jnp.where(first, W(c_end, c_nb, flipped), W(c_nb, c_end, flipped))
-    new_end = jnp.where(first, W(c_end ^ 1, c_nb, flipped), W(c_nb, c_end ^ 1, flipped))
+    first = plan.end <= 0
+    before_goal = pick(v.ids, v.prev[-1])
+    start_leg, goal_leg = (v.ids[0], v.nxt_id[0]), (before_goal, v.ids[-1])
+    old_end = jnp.where(first, W(*start_leg), W(*goal_leg))
+    new_end = jnp.where(first, W(start_leg[0] ^ 1, start_leg[1]), W(goal_leg[0], goal_leg[1] ^ 1))
+    old_end, new_end = jnp.where(flipped, old_end, 0.0), jnp.where(flipped, new_end, 0.0)
     added = W(c2p, c_new, enters) + W(c_new, c2q, enters) + W(cp, cq, was) + new_end
     removed = W(cp, c_old, was) + W(c_old, cq, was) + W(c2p, c2q, enters) + old_end
     return added - removed
@@ -142,8 +145,26 @@ def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array
     wt = weights(legs)
     stacked = Plan(*(jnp.concatenate(field) for field in zip(*plans)))  # (candidates, ...)
     scores = change(stacked, perm, labels, v, wt)
-    best = jnp.argmin(scores, axis=0)  # the first of equals
+    best = first_min(scores)
     return path_ops.apply(perm, labels, Plan(*(pick(field, best) for field in stacked)))
+
+
+def first_min(scores: Array) -> Array:
+    """``argmin(scores, axis=0)`` (the first of equals) for scores without NaN (leg
+    scores are finite), as a pass over the leading axis. XLA on the CPU fuses the
+    scoring into an ``argmin`` (a reduce of value and index, element by element); the
+    pass keeps the scoring vector work across the population (the guided move on
+    1,000 runs x 50 at 9 obstacles: 9.1 -> 6.6 ms)."""
+    def better(carry, row):
+        value, at = carry
+        score, k = row
+        less = score < value
+        return (jnp.where(less, score, value), jnp.where(less, k, at)), None
+
+    init = (scores[0], jnp.zeros(scores.shape[1:], jnp.int32))
+    (_, best), _ = jax.lax.scan(better, init, (scores[1:], jnp.arange(1, scores.shape[0],
+                                                                     dtype=jnp.int32)))
+    return best
 
 
 def guided(key: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
