@@ -60,9 +60,11 @@ def redraw_from_words(words: Array, legs: Array, pm: float | Array, values: int 
     """:func:`redraw` of genes ``(..., L)`` from one given uint32 word per gene (the
     labels' rule: the top 24 bits against ``pm``; the choice from the lowest 8 bits,
     modulo ``values - 1``: the lowest bit for three values, the lowest two for five)."""
+    # a batch with its genes first, as the labels' (label_ops.redraw_from_words)
+    words, legs = jnp.moveaxis(words, -1, 0), jnp.moveaxis(legs, -1, 0)
     mask, _ = redraw_mask(words, pm)
     choice = (words & 0xFF) % (values - 1)
-    return redraw_apply(legs, mask, choice, values)
+    return jnp.moveaxis(redraw_apply(legs, mask, choice, values), 0, -1)
 
 
 def redraw(key: Array, legs: Array, pm: float | Array, values: int = GENES) -> Array:
