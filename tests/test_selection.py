@@ -86,3 +86,19 @@ def test_jit_vmap_over_runs_equals_run_by_run(name):
     single = jax.jit(op)
     for r in range(runs):
         np.testing.assert_array_equal(batched[r], single(keys[r], fit[r]))
+
+
+@pytest.mark.parametrize("size", [1, 2, 3, 8, 9])
+def test_tournament_from_words_keeps_the_fittest_entrant_lowest_index_first(size):
+    # Fitness with many ties; the reference is the rule itself, in numpy.
+    from hga_jax.search.permutation import int_from_words
+    from hga_jax.search.selection import tournament_from_words
+
+    rng = np.random.default_rng(size)
+    fit = rng.integers(1, 4, 12).astype(np.float32)
+    words = rng.integers(0, 2**32, (500, size), dtype=np.uint64).astype(np.uint32)
+    got = np.asarray(tournament_from_words(jnp.asarray(words), jnp.asarray(fit)))
+    entrants = np.asarray(int_from_words(jnp.asarray(words), 0, 12))
+    f = fit[entrants]
+    want = np.where(f == f.max(axis=1, keepdims=True), entrants, 12).min(axis=1)
+    np.testing.assert_array_equal(got, want)
