@@ -250,9 +250,11 @@ def test_random_permutation(n):
         assert np.bincount(perms[:, 0], minlength=n).max() < 25
 
 
-@pytest.mark.parametrize("n", [1, 2, 9, pm.RANK_MAX_N, pm.RANK_MAX_N + 1, 40])
+@pytest.mark.parametrize("n", [1, 2, 9, pm.RANK_MAX_N, pm.RANK_MAX_N + 1, 40, pm.SCAN_MAX_N,
+                               pm.SCAN_MAX_N + 1])
 def test_permutation_from_words_is_the_stable_argsort(n):
-    """Ranked by comparisons (n <= RANK_MAX_N) or sorted, the permutation is numpy's
+    """Ranked by comparisons (n <= RANK_MAX_N), counted in passes over the genes
+    (n <= SCAN_MAX_N) or sorted, the permutation is numpy's
     stable argsort of the words, ties (forced here, and words of few values) included."""
     rng = np.random.default_rng(n)
     words = rng.integers(0, 2**32, size=(300, n), dtype=np.uint32)
