@@ -740,3 +740,47 @@ def test_next_touched_is_the_first_touched_position_after_each(n):
     for row, t in zip(got, touched):
         want = [next((q for q in range(k + 1, s) if t[q]), s - 1) for k in range(s)]
         assert row.tolist() == want
+
+
+@pytest.mark.parametrize("make", [_grid30, _cluttered30], ids=["grid30", "cluttered30"])
+def test_a_clearer_wrap_takes_the_side_whose_new_legs_pass_fewer_obstacles(make):
+    """``wrap_clearer`` (legs.clearer): with share 1 every wrap goes round the side of
+    its obstacle whose two new legs (from the blocked leg's first circle to the
+    obstacle, and on to its second) pass through fewer obstacles, counted here from the
+    blocker table; where both pass as many, and with share 0, the random side as before;
+    with 0.75 the words whose lowest 8 bits are below 192."""
+    sc = make()
+    legs = _legs(sc)
+    n = sc.n
+    blockers = np.asarray(legs.blockers)
+    wrap = jax.jit(lambda w, p, l, lg: path_ops._wrap_one(w, p, l, lg))
+    rng_ = np.random.default_rng(7)
+    decided = 0
+    for _ in range(150):
+        perm = rng_.permutation(n).astype(np.int32)
+        labels = rng_.choice([-1, 0, 0, 1], n + 2).astype(np.int32)
+        labels[[0, -1]] = rng_.choice([-1, 1], 2)
+        w = rng_.integers(0, 2**32, 3, dtype=np.uint64).astype(np.uint32)
+        plain, ok = wrap(w, perm, labels, legs)
+        if not ok:
+            continue
+        f = np.float32
+        for share in (0.0, 0.75, 1.0):
+            got, ok2 = wrap(w, perm, labels, legs._replace(clearer=f(share)))
+            assert bool(ok2) and int(got.j) == int(plain.j) and int(got.i) == int(plain.i)
+            # the wrapped leg: the positions around where the obstacle now sits
+            new_perm, new_labels = path_ops.apply(perm, labels, got)
+            ids = _circle_ids(np.asarray(new_perm), np.asarray(new_labels))
+            o = int(perm[int(got.j)])
+            at = [k for k, c in enumerate(ids) if c in (4 + 2 * o, 5 + 2 * o)][0]
+            a, c = ids[at - 1], ids[at + 1]
+            cw, ccw = 4 + 2 * o, 5 + 2 * o
+            via_cw = blockers[a, cw].sum() + blockers[cw, c].sum()
+            via_ccw = blockers[a, ccw].sum() + blockers[ccw, c].sum()
+            on = share > 0 and (int(w[2]) & 0xFF) < 256 * share
+            want = int(plain.label)
+            if on and via_cw != via_ccw:
+                want = 1 if via_cw < via_ccw else -1
+                decided += share == 1.0
+            assert int(got.label) == want, (share, via_cw, via_ccw)
+    assert decided > 20  # the rule decided many of these wraps

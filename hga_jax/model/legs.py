@@ -57,7 +57,8 @@ class Legs(NamedTuple):
     metres, ``penalty`` () metres, ``listed`` (C, C, n) and ``count`` (C, C) int16 (see
     module doc). ``ends``: not None where the path's ends are not the path moves' (a
     reversing car's: the start's and goal's labels go with their gears,
-    :mod:`hga_jax.search.end_ops`)."""
+    :mod:`hga_jax.search.end_ops`). ``clearer``: the search's ``wrap_clearer`` share
+    (a float32 scalar; None: every wrap takes a random side), set by the GA."""
 
     blockers: Any
     blocked: Any
@@ -67,6 +68,7 @@ class Legs(NamedTuple):
     ends: Any = None
     listed: Any = None
     count: Any = None
+    clearer: Any = None
 
 
 def listed(blockers) -> tuple[np.ndarray, np.ndarray]:

@@ -28,6 +28,10 @@ drawn at random; ``seeding_via``: the share of those seeded chromosomes whose wr
 starts from a path through one obstacle (the first of their random permutation, with
 its drawn label: a drawn 0 leaves the direct path) instead of the direct path, so that
 fresh populations also try corridors that the direct path's blockers do not lead to.
+``wrap_clearer``: the share of wraps (seeding's, and the ``repair`` move's) that go
+round the side of the wrapped obstacle whose two new legs pass through fewer obstacles
+(per-leg information, :func:`hga_jax.search.path_ops._wrap`); the other wraps, and a
+wrap whose two sides pass through as many, take a random side (0: every side random).
 ``restart_after = R``: at generations R, 2R, 3R, ..., a run whose best-so-far
 did not improve in the last R generations starts a new population, drawn like
 generation 0, without elites (0: never restart). The best-so-far is kept.
@@ -71,11 +75,11 @@ from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
 RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
-         "pm_ends", "seeding_via", "penalty_weight", "seeding", "restart_after")
+         "pm_ends", "seeding_via", "wrap_clearer", "penalty_weight", "seeding", "restart_after")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
 configurations that differ only in these run the same program. Of ``seeding`` and
 ``restart_after`` only whether they are on (> 0) is structure."""
-SHARES = RATES[:9]
+SHARES = RATES[:10]
 """The :data:`RATES` that are probabilities or shares (float32 in the program)."""
 
 
@@ -94,6 +98,7 @@ class Rates(NamedTuple):
     pm_legs: Any
     pm_ends: Any
     seeding_via: Any
+    wrap_clearer: Any
     penalty_weight: Any
     seeded: Any
     restart_after: Any
@@ -132,6 +137,7 @@ class GASettings:
     pm_path: float = 0.0
     seeding: float = 0.0
     seeding_via: float = 0.0
+    wrap_clearer: float = 0.0
     restart_after: int = 0
     generations_per_obstacle: int = 0
     turns: str = car_model.DEFAULT
@@ -277,7 +283,7 @@ class GASettings:
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
-                    "seeding_via", "pc_legs", "pm_legs", "pm_ends"):
+                    "seeding_via", "wrap_clearer", "pc_legs", "pm_legs", "pm_ends"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")
@@ -376,10 +382,11 @@ PAPER = GASettings()
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.5,
-                         restart_after=12,
+                         wrap_clearer=0.75, restart_after=12,
                          penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
-restarts seeded by wrapping blocking obstacles, one guided path move per child (the
+restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
+new legs pass through fewer obstacles), one guided path move per child (the
 best of ten candidate moves by their legs), tournament selection, 2 elites, restarts
 of runs stalled for 12 generations, ten times the paper's penalty per violation
 during the search, two children per generation that move the best path's ends (the

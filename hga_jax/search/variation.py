@@ -45,13 +45,16 @@ def bound(perm, labels, settings: GASettings):
 
 
 def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
-    """The scenario's legs, their penalty per bad leg scaled as the fitness's delta."""
+    """The scenario's legs, their penalty per bad leg scaled as the fitness's delta, and
+    the share of wraps that take the side with fewer blockers (``wrap_clearer``)."""
     if sa.legs is None:
         raise ValueError("these settings use path moves or seeding: pass scenario arrays "
                          "from Scenario.search_arrays(..., with_legs=True)")
     legs = sa.legs
     if settings is not None and legs.penalty is not None:  # x 1 is exact
         legs = legs._replace(penalty=legs.penalty * settings.penalty_weight)
+    if settings is not None:  # data: a share of 0 gives every wrap a random side
+        legs = legs._replace(clearer=settings.wrap_clearer)
     return legs
 
 
@@ -149,7 +152,7 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
         genes = leg_ops.genes_from_words(words[first:first + n + 2].T, module.weights)
     if settings is None or not settings.seeds or n == 0:
         return perm, labels, genes
-    legs = _legs(sa)
+    legs = _legs(sa, settings)
     keys = _keys(words[2 * n + 2:2 * n + 4])
     pos = positional(perm, labels, settings)
     wrap_words = jax.vmap(lambda k: path_ops._words(k, 3 * n))(keys)  # (P, 3n)
