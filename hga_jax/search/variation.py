@@ -46,14 +46,18 @@ def bound(perm, labels, settings: GASettings):
 
 def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
     """The scenario's legs, their penalty per bad leg scaled as the fitness's delta, and
-    the share of wraps that take the side with fewer blockers (``wrap_clearer``)."""
+    the share of wraps that take the side with fewer blockers (``wrap_clearer``; the
+    forward car's models only)."""
     if sa.legs is None:
         raise ValueError("these settings use path moves or seeding: pass scenario arrays "
                          "from Scenario.search_arrays(..., with_legs=True)")
     legs = sa.legs
     if settings is not None and legs.penalty is not None:  # x 1 is exact
         legs = legs._replace(penalty=legs.penalty * settings.penalty_weight)
-    if settings is not None:  # data: a share of 0 gives every wrap a random side
+    if settings is not None and legs.ends is None:  # data: 0 gives every wrap a random side
+        # (a reversing car's wraps keep random sides: its legs are not the tangents whose
+        # blockers the share counts; with it, the Reeds-Shepp study's clutter 25 fell
+        # from 99.7 to 94.0 % and its obstructed worst scenes by 9-11 points)
         legs = legs._replace(clearer=settings.wrap_clearer)
     return legs
 
