@@ -87,7 +87,7 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "seeding_via": (float, None, "share of the seeded individuals that start from a path "
                     "through one random obstacle instead of the direct path"),
     "wrap_clearer": (float, None, "share of the wraps (seeding, repair) that go round the "
-                     "side whose two new legs pass through fewer obstacles (forward car)"),
+                     "side whose two new legs pass through fewer obstacles (tight rope)"),
     "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),

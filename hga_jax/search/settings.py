@@ -32,7 +32,8 @@ fresh populations also try corridors that the direct path's blockers do not lead
 round the side of the wrapped obstacle whose two new legs pass through fewer obstacles
 (per-leg information, :func:`hga_jax.search.path_ops._wrap`); the other wraps, and a
 wrap whose two sides pass through as many, take a random side (0: every side random).
-The forward car's models only: a reversing car's wraps keep random sides.
+The tight rope only: under free turns and for the Reeds–Shepp car the wraps keep random
+sides (their legs are not the tangents whose blockers the share counts).
 ``restart_after = R``: at generations R, 2R, 3R, ..., a run whose best-so-far
 did not improve in the last R generations starts a new population, drawn like
 generation 0, without elites (0: never restart). The best-so-far is kept.

@@ -47,17 +47,18 @@ def bound(perm, labels, settings: GASettings):
 def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
     """The scenario's legs, their penalty per bad leg scaled as the fitness's delta, and
     the share of wraps that take the side with fewer blockers (``wrap_clearer``; the
-    forward car's models only)."""
+    tight rope only)."""
     if sa.legs is None:
         raise ValueError("these settings use path moves or seeding: pass scenario arrays "
                          "from Scenario.search_arrays(..., with_legs=True)")
     legs = sa.legs
     if settings is not None and legs.penalty is not None:  # x 1 is exact
         legs = legs._replace(penalty=legs.penalty * settings.penalty_weight)
-    if settings is not None and legs.ends is None:  # data: 0 gives every wrap a random side
-        # (a reversing car's wraps keep random sides: its legs are not the tangents whose
-        # blockers the share counts; with it, the Reeds-Shepp study's clutter 25 fell
-        # from 99.7 to 94.0 % and its obstructed worst scenes by 9-11 points)
+    if settings is not None and not settings.model.genes:  # data: 0: every side random
+        # The tight rope only. Under free turns the legs count a blocked tangent that a
+        # free leg gets round as clear, and the Reeds-Shepp car's legs reverse: with the
+        # share, free turns hit 85.8 % instead of 97.2 % on the bundled scene, and the
+        # Reeds-Shepp study's clutter 25 fell from 99.7 to 94.0 % (docs/results.md).
         legs = legs._replace(clearer=settings.wrap_clearer)
     return legs
 
