@@ -58,8 +58,7 @@ def _extras(st: GASettings) -> str:
         via = (f", {pct(st.seeding_via)} of them from a path via a random obstacle"
                if st.seeding_via > 0 else "")
         out.append(f"seeded by wrapping blockers ({pct(st.seeding)} of each new population{via})")
-    if (st.wrap_clearer > 0 and (st.seeding > 0 or st.path_mutation != "none")
-            and not st.model.genes):  # the tight rope's wraps only
+    if st.wrap_clearer > 0 and st.uses_legs and st.counts_wrap_sides:
         out.append(f"{pct(st.wrap_clearer)} of wraps round the side with fewer blockers")
     if st.restart_after:
         out.append(f"restart after {count(st.restart_after, 'stalled generation')}")

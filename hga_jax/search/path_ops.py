@@ -43,6 +43,7 @@ from jax import Array
 from hga_jax.model import circle_ids
 from hga_jax.model.decode import circles_along
 from .permutation import ONEHOT_MAX_N, int_from_words, lift, pick, take
+from .rng import unit
 
 Move = Callable[[Array, Array, Array, Any], tuple[Array, Array]]
 
@@ -376,7 +377,7 @@ def _wrap(w: Array, perm: Array, labels: Array, legs, ids: Array, nxt_id: Array,
     # runs with flips, seeding and restarts), or where the settings say so the side
     # whose two new legs pass through fewer obstacles.
     label = _sign(w[2])
-    if getattr(legs, "clearer", None) is not None:
+    if legs.clearer is not None:
         label = _clearer_side(legs, a, c, o, w[2], label)
     # o's position, where it is the one entry: a sum (an argmax, a reduce of value and
     # index, XLA on the CPU ran element by element: seeding wraps at 40 obstacles 15 %
@@ -398,8 +399,8 @@ def _clearer_side(legs, a: Array, c: Array, o: Array, word: Array, label: Array)
     ccw, cw = circle_ids.obstacle(o, 0), circle_ids.obstacle(o, 1)
     via_ccw = count[a, ccw].astype(jnp.int32) + count[ccw, c].astype(jnp.int32)
     via_cw = count[a, cw].astype(jnp.int32) + count[cw, c].astype(jnp.int32)
-    share = jnp.asarray(legs.clearer, jnp.float32)
-    on = (word & 0xFF).astype(jnp.float32) * (1.0 / 256) < share  # exact on k / 256
+    # the uniform of the word's lowest 8 bits (k / 256), by the one rule of rng.unit
+    on = unit(word << jnp.uint32(24)) < jnp.asarray(legs.clearer, jnp.float32)
     return jnp.where(on & (via_cw != via_ccw), jnp.where(via_cw < via_ccw, 1, -1),
                      label).astype(jnp.int32)
 

@@ -239,6 +239,12 @@ class GASettings:
         return self.static().restart_after > 0
 
     @property
+    def counts_wrap_sides(self) -> bool:
+        """Whether ``wrap_clearer`` applies: the tight rope, whose legs are the tangents
+        whose blockers it counts (a car model with genes of its own keeps random sides)."""
+        return not self.model.genes
+
+    @property
     def uses_legs(self) -> bool:
         """Whether the search reads the per-leg blockers (:mod:`hga_jax.model.legs`)."""
         return self.path_mutation != "none" or self.seeds

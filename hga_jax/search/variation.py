@@ -54,7 +54,7 @@ def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
     legs = sa.legs
     if settings is not None and legs.penalty is not None:  # x 1 is exact
         legs = legs._replace(penalty=legs.penalty * settings.penalty_weight)
-    if settings is not None and not settings.model.genes:  # data: 0: every side random
+    if settings is not None and settings.counts_wrap_sides:  # data: 0: every side random
         # The tight rope only. Under free turns the legs count a blocked tangent that a
         # free leg gets round as clear, and the Reeds-Shepp car's legs reverse: with the
         # share, free turns hit 85.8 % instead of 97.2 % on the bundled scene, and the
