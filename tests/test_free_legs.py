@@ -165,6 +165,41 @@ def test_tight_rope_runs_ignore_the_leg_settings():
     np.testing.assert_array_equal(a.length, b.length)
 
 
+def test_the_straight_children_are_the_parents_best_with_straight_legs():
+    """``straight_of_best = k`` (free turns, the Reeds-Shepp car): the last k children
+    of a generation before the ``ends_of_best`` ones are the parents' best with every
+    leg gene 0 (its tight-rope path); the other children are those of ``k = 0`` bit for
+    bit (the straight children read no words). The tight rope does not read it."""
+    from hga_jax.search.state import Population
+    from hga_jax.search.variation import _draw, _vary
+
+    rng = np.random.default_rng(5)
+    n, pop, k = 7, 12, 3
+    perm = np.stack([rng.permutation(n) for _ in range(pop)]).astype(np.int32)
+    labels = rng.choice([-1, 0, 1], size=(pop, n + 2)).astype(np.int32)
+    labels[:, [0, -1]] = rng.choice([-1, 1], (pop, 2))
+    legs = _genes(rng, pop, n)
+    fitness = rng.random(pop).astype(np.float32)
+    old = Population(perm, labels, fitness, fitness, np.zeros(pop, np.int32), legs)
+    best = int(np.argmax(fitness))
+    vary = jax.jit(_vary, static_argnums=2)
+    for turns, ends in (("free", 0), ("reeds-shepp", 2)):
+        base = dataclasses.replace(PAPER, turns=turns, population=pop, ends_of_best=ends)
+        words = _draw(jax.random.key(6), n, base)
+        plain = [np.asarray(x) for x in vary(words, old, base)]
+        straight = [np.asarray(x) for x in vary(words, old, dataclasses.replace(
+            base, straight_of_best=k))]
+        at = np.arange(pop - ends - k, pop - ends)
+        rest = np.setdiff1d(np.arange(pop), at)
+        for a, b in zip(plain, straight):
+            np.testing.assert_array_equal(a[rest], b[rest])
+        p, lab, lg = straight
+        assert (p[at] == perm[best]).all() and (lab[at] == labels[best]).all()
+        assert (lg[at] == 0).all() and (legs[best] != 0).any()
+    st = dataclasses.replace(RECOMMENDED, turns="tight-rope")
+    assert st.structure() == dataclasses.replace(st, straight_of_best=0).structure()
+
+
 def test_free_turns_need_the_full_collision_test():
     with pytest.raises(ConfigError, match=r"ga.turns: free turns need the full collision"):
         GASettings.from_mapping({"turns": "free", "collision": "paper"}, "s.toml")

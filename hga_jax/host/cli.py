@@ -98,6 +98,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "pm_ends": (float, None, "probability per child of the end move (the Reeds-Shepp car)"),
     "ends_of_best": (int, None, "children per generation that are the parents' best moved "
                      "at its ends (the Reeds-Shepp car)"),
+    "straight_of_best": (int, None, "children per generation that are the parents' best with "
+                         "every leg straight (free turns, the Reeds-Shepp car)"),
 }
 
 

@@ -52,6 +52,13 @@ def _extras(st: GASettings) -> str:
                    f"(pm {getattr(st, g.pm):g} per gene)")
         if g.ends and getattr(st, g.ends) != "none":
             out.append(f"end move {getattr(st, g.ends)} (pm {getattr(st, g.pe):g})")
+        if g.ends and st.ends_of_best:
+            out.append(f"{count(st.ends_of_best, 'child', 'children')} per generation: the "
+                       "best moved at its ends")
+        if g.straight and getattr(st, g.straight):
+            k = getattr(st, g.straight)
+            out.append(f"{count(k, 'child', 'children')} per generation: the best with "
+                       "straight legs")
     if st.path_mutation != "none":
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
     if st.seeding > 0:

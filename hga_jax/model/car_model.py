@@ -54,6 +54,8 @@ class GeneModule:
     their rates (per pair, per gene). words: how summaries name the genes.
     ends, pe: the fields of the move on the path's ends and of its rate per child (a
     reversing car's, :mod:`hga_jax.search.end_ops`; empty: none).
+    straight: the field of how many children per generation are the parents' best with
+    every gene 0 (free turns: every leg a tangent; empty: none).
     """
 
     name: str
@@ -65,6 +67,7 @@ class GeneModule:
     words: str
     ends: str = ""
     pe: str = ""
+    straight: str = ""
 
 
 class CarModel:

@@ -55,7 +55,11 @@ car (``"reeds-shepp"``) has leg genes of seven values (:mod:`hga_jax.model.rever
 and moves on the ends of its path (``end_mutation``, with probability ``pm_ends`` per
 child: :mod:`hga_jax.search.end_ops`); ``ends_of_best = k`` makes the last k children
 of every generation copies of the parents' best, moved at their ends (a local search
-around the best, counted as every child). Under a model without genes of its own the leg
+around the best, counted as every child). Under free turns and for the Reeds–Shepp car
+``straight_of_best = k`` makes k children of every generation copies of the parents'
+best with every leg gene 0 (each leg the tangent, driven forward): the tight-rope path
+of its touched sequence, which a search with leg genes otherwise reaches only gene by
+gene. Under a model without genes of its own the leg
 and end settings do nothing and the random stream is the paper's.
 
 ``penalty_weight`` scales the paper's penalty per violation
@@ -106,7 +110,8 @@ class Rates(NamedTuple):
     restart_after: Any
 
 
-MODEL_FIELDS = ("leg_crossover", "leg_mutation", "end_mutation", "ends_of_best")
+MODEL_FIELDS = ("leg_crossover", "leg_mutation", "end_mutation", "ends_of_best",
+                "straight_of_best")
 """Settings that only a car model with genes of its own reads (:attr:`GASettings.model`):
 under another model they do not change the program (:meth:`GASettings.structure`)."""
 BUDGET_BASE = 9
@@ -150,6 +155,7 @@ class GASettings:
     end_mutation: str = "redraw"
     pm_ends: float = 0.5
     ends_of_best: int = 0
+    straight_of_best: int = 0
 
     @property
     def model(self) -> car_model.CarModel:
@@ -202,6 +208,7 @@ class GASettings:
         used = {name for g in genes for name in (g.crossover, g.mutation, g.ends) if name}
         if any(g.ends for g in genes):
             used.add("ends_of_best")
+        used.update(g.straight for g in genes if g.straight)
         idle = {f.name: f.default for f in dataclasses.fields(self)
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
@@ -271,7 +278,7 @@ class GASettings:
             return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
         for key in ("population", "generations", "tournament_size", "elites", "restart_after",
-                    "generations_per_obstacle", "ends_of_best"):
+                    "generations_per_obstacle", "ends_of_best", "straight_of_best"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad(key, f"must be an integer, got {v!r}")
@@ -285,6 +292,9 @@ class GASettings:
             raise bad("elites", f"must be in 0..{pop()} - 1, got {self.elites}")
         if not 0 <= self.ends_of_best < self.population:
             raise bad("ends_of_best", f"must be in 0..{pop()} - 1, got {self.ends_of_best}")
+        if not 0 <= self.straight_of_best < self.population - self.ends_of_best:
+            raise bad("straight_of_best", f"must be in 0..{pop()} - ends_of_best "
+                      f"({self.ends_of_best}) - 1, got {self.straight_of_best}")
         if self.generations_per_obstacle < 0:
             raise bad("generations_per_obstacle", f"must be >= 0 (0: a fixed count), "
                       f"got {self.generations_per_obstacle}")
@@ -391,14 +401,16 @@ PAPER = GASettings()
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.5,
                          wrap_clearer=0.75, restart_after=12,
-                         penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2)
+                         penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2,
+                         straight_of_best=1)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
 new legs pass through fewer obstacles), one guided path move per child (the
 best of ten candidate moves by their legs), tournament selection, 2 elites, restarts
 of runs stalled for 12 generations, ten times the paper's penalty per violation
 during the search, two children per generation that move the best path's ends (the
-Reeds–Shepp car only), and a budget that grows with the scene: the paper's 50 x 51
+Reeds–Shepp car only), one that is the best path with straight legs (free turns and the Reeds–Shepp car),
+and a budget that grows with the scene: the paper's 50 x 51
 chromosomes up to 9 obstacles, 24 more generations per obstacle beyond (15
 obstacles: 50 x 195 = 9,750; 25: 50 x 435 = 21,750; 40: 50 x 795 = 39,750)
 (``configs/ga/recommended.toml``; measured in docs/results.md)."""
