@@ -1,4 +1,5 @@
-"""The exception types a user may see: bad input, and a model mismatch (a bug)."""
+"""The exception types a user may see: bad input, a model mismatch (a bug), a peer
+that crashed, and an interruption."""
 
 
 class ConfigError(ValueError):
@@ -11,6 +12,11 @@ class ConfigError(ValueError):
 
 class ModelMismatchError(RuntimeError):
     """The exact solver's tangent graph and the decoder disagree about a path (a bug in hga-jax): the message names the scenario and both figures."""
+
+
+class PeerCrashed(RuntimeError):
+    """A peer's process died (a crash in its native code, such as OMPL's) again after a
+    retry: the message names the peer and says that the study resumes when run again."""
 
 
 class Interrupted(KeyboardInterrupt):

@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from hga_jax.errors import ConfigError
+from hga_jax.errors import ConfigError, PeerCrashed
 from hga_jax.host.config import scenario_from_dict
 from hga_jax.model.exact import solve
 from hga_jax.study import anytime, solvers
@@ -49,6 +49,9 @@ def test_an_ompl_path_that_clips_an_obstacle_counts_infeasible(tmp_path, monkeyp
                 "checks": 7, "seconds": 0.05}
 
     monkeypatch.setattr(ompl_planner, "plan", straight)
+    from hga_jax.peers import isolated  # in this process, where the patch is
+
+    monkeypatch.setattr(isolated, "call", lambda fn, *args, **kw: fn(*args))
     for y, feasible in ((0.1, False), (0.3, True)):
         sc = _line_scene(y)
         doc = solvers.run_cell(_study(tmp_path), _ompl_config(), Scene(sc.name, "f", "", sc, ""))
@@ -65,6 +68,39 @@ def test_an_ompl_path_that_clips_an_obstacle_counts_infeasible(tmp_path, monkeyp
             assert cols["hit"] == [False] and cols["time_hit"] == [None]
             assert opt > 2.0  # the optimum goes round the obstacle
         assert doc["paths"][0] == [list(sc.start), list(sc.goal)]
+
+
+def _crash_once(marker: str) -> int:
+    """Ends its process as a segmentation fault would, the first time (the worker
+    process imports this module to call it)."""
+    import signal
+
+    if not os.path.exists(marker):
+        open(marker, "w").close()
+        os.kill(os.getpid(), signal.SIGSEGV)
+    return os.getpid()
+
+
+def _crash_always() -> None:
+    import signal
+
+    os.kill(os.getpid(), signal.SIGSEGV)
+
+
+def test_a_peer_that_crashes_its_process_is_run_again_in_a_fresh_one(tmp_path):
+    """OMPL's BIT* crashes its process now and then: a study's OMPL cells run in a
+    worker process, a call whose worker dies is made again in a fresh one, and a peer
+    that dies again is a one-line error, not the end of the study's process."""
+    from hga_jax.peers import isolated
+
+    marker = str(tmp_path / "crashed")
+    pid = isolated.call(_crash_once, marker, what="the test peer")
+    assert os.path.exists(marker) and pid != os.getpid()
+    assert isolated.call(_crash_once, marker) == pid  # the fresh worker is kept
+    with pytest.raises(PeerCrashed, match=r"^the test peer crashed 2 times in a row \(its "
+                                          r"process died; the finished cells are kept"):
+        isolated.call(_crash_always, what="the test peer")
+    assert isolated.call(_crash_once, marker) != pid  # and replaced after a death
 
 
 def test_ompl_accepts_the_clipping_motion_that_the_model_rejects():

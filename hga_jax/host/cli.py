@@ -43,7 +43,7 @@ import sys
 from typing import Any, Callable, Iterator, Sequence
 
 from hga_jax import __version__
-from hga_jax.errors import ConfigError, Interrupted, ModelMismatchError
+from hga_jax.errors import ConfigError, Interrupted, ModelMismatchError, PeerCrashed
 from hga_jax.running import devices
 from hga_jax.search import registry
 from hga_jax.model import car_model
@@ -711,6 +711,9 @@ def _main(args) -> int:
         print(f"hga-jax: internal error: {e} (please report this scenario)", file=sys.stderr,
               flush=True)
         return 3
+    except PeerCrashed as e:
+        _error(str(e))
+        return 1
     except KeyboardInterrupt as e:
         text = str(e) if isinstance(e, Interrupted) or str(e) == "terminated" else "interrupted"
         tail = "" if "written" in text else "; nothing written"

@@ -162,15 +162,25 @@ def _deap_cell(study, config, scene, runs, optimum) -> dict[str, Any]:
     return peer_document(study, config, scene, optimum, rows)
 
 
-def _ompl_cell(study, config, scene, runs, optimum) -> dict[str, Any]:
-    from hga_jax.peers.judge import judge_poses
+def ompl_runs(sc, planner: str, time_limit: float, seed: int, runs: int) -> list[dict]:
+    """``runs`` runs of OMPL's ``planner`` on ``sc`` (:func:`hga_jax.peers.ompl_planner.plan`),
+    one after another: what a study's OMPL cell asks of its worker process."""
     from hga_jax.peers.ompl_planner import plan
+
+    return [plan(sc, planner, time_limit, seed) for _ in range(runs)]
+
+
+def _ompl_cell(study, config, scene, runs, optimum) -> dict[str, Any]:
+    from hga_jax.peers import isolated
+    from hga_jax.peers.judge import judge_poses
 
     sc = scene.scenario
     opt = optimum.length if optimum.feasible else None
     rows, checks, ompl_lengths, paths = [], [], [], []
-    for k in range(runs):
-        r = plan(sc, config.planner, config.time_limit, study.seed)
+    # in a worker process: OMPL's BIT* crashes its process now and then (hga_jax.peers.isolated)
+    results = isolated.call(ompl_runs, sc, config.planner, config.time_limit, study.seed, runs,
+                            what=f"OMPL's {config.planner} on scene {scene.name}")
+    for r in results:
         trace_t, trace_gap, last, final = [], [], None, None
         for t, poses in r["checkpoints"]:
             if poses is None:
