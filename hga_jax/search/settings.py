@@ -409,8 +409,8 @@ new legs pass through fewer obstacles), one guided path move per child (the
 best of ten candidate moves by their legs), tournament selection, 2 elites, restarts
 of runs stalled for 12 generations, ten times the paper's penalty per violation
 during the search, two children per generation that move the best path's ends (the
-Reeds–Shepp car only), one that is the best path with straight legs (free turns and the Reeds–Shepp car),
-and a budget that grows with the scene: the paper's 50 x 51
+Reeds–Shepp car only), one that is the best path with straight legs (free turns and
+the Reeds–Shepp car), and a budget that grows with the scene: the paper's 50 x 51
 chromosomes up to 9 obstacles, 24 more generations per obstacle beyond (15
 obstacles: 50 x 195 = 9,750; 25: 50 x 435 = 21,750; 40: 50 x 795 = 39,750)
 (``configs/ga/recommended.toml``; measured in docs/results.md)."""

@@ -233,12 +233,7 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         ends = (unit(rows("mutate_ends")[0]) < getattr(settings, module.pe))[:, None]
         k = settings.ends_of_best
         if k:  # the last k children: the parents' best, moved at its ends
-            b = jnp.argmax(old.fitness)
-            off = perm.shape[0] - 1 - jnp.arange(perm.shape[0])
-            tail = (off < k)[:, None]
-            perm = jnp.where(tail, old.perm[b], perm)
-            labels = jnp.where(tail, old.labels[b], labels)
-            genes = jnp.where(tail, old.legs[b], genes)
+            (perm, labels, genes), tail = _best_copies(old, (perm, labels, genes), 0, k)
             ends = ends | tail
     if settings.path_mutation != "none" and n >= 1:
         m, legs = rows("mutate_path"), _legs(sa, settings)
@@ -261,24 +256,32 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
 
 def _straight_of_best(old: Population, perm, labels, genes, settings: GASettings):
     """The model's ``straight`` children (``straight_of_best``; free turns, the
-    Reeds-Shepp car): the last
-    children before the ends' (``ends_of_best``) become copies of the parents' best with
-    every gene 0, so each leg the tangent to its next circle (or the free leg that gets
-    round a blocked one, as gene 0 reads): the tight-rope path of the best's touched
-    sequence, which the free-turn search otherwise reaches only gene by gene (the
-    bundled scene under free turns: 96.8 -> 98.7 % of 3,000 runs; docs/results.md; the
-    Reeds-Shepp car's gene 0 is the leg driven forward). They
-    read no words and are evaluated as every child."""
+    Reeds-Shepp car): the last children before the ends' (``ends_of_best``) become
+    copies of the parents' best with every gene 0, so each leg the tangent to its next
+    circle (or the free leg that gets round a blocked one, as gene 0 reads; the
+    Reeds-Shepp car's driven forward): the tight-rope path of the best's touched
+    sequence, which the search otherwise reaches only gene by gene (the bundled scene
+    under free turns: 96.8 -> 98.7 % of 3,000 runs; docs/results.md). They read no
+    words and are evaluated as every child."""
     (module,) = _genes(settings)
     k = getattr(settings, module.straight) if module.straight else 0
     if not k:
         return perm, labels, genes
-    tail = settings.ends_of_best if module.ends else 0
-    b = jnp.argmax(old.fitness)
-    off = perm.shape[0] - 1 - tail - jnp.arange(perm.shape[0])  # 0: the last before the ends'
+    skip = settings.ends_of_best if module.ends else 0
+    (perm, labels, genes), on = _best_copies(old, (perm, labels, genes), skip, k)
+    return perm, labels, jnp.where(on, 0, genes)
+
+
+def _best_copies(old: Population, children, skip: int, k: int):
+    """``children`` (perm, labels, genes) with the k before the last ``skip`` replaced by
+    copies of the parents' best (the first best of equal fitness), and which they are
+    (P, 1) bools."""
+    p = children[0].shape[0]
+    off = p - 1 - skip - jnp.arange(p)  # 0: the last child before the skipped ones
     on = ((off >= 0) & (off < k))[:, None]
-    return (jnp.where(on, old.perm[b], perm), jnp.where(on, old.labels[b], labels),
-            jnp.where(on, 0, genes))
+    b = jnp.argmax(old.fitness)
+    best = (old.perm[b], old.labels[b], old.legs[b])
+    return tuple(jnp.where(on, x, c) for x, c in zip(best, children)), on
 
 
 def _ends(rows, perm, labels, genes, settings: GASettings, do):
