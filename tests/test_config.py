@@ -261,6 +261,9 @@ BAD = {
     "ga_straight_of_best": (BASE + "\n[ga]\nstraight_of_best = 50\n", "ga.straight_of_best"),
     "ga_straight_of_best_sign": (BASE + "\n[ga]\nstraight_of_best = -1\n",
                                  "ga.straight_of_best"),
+    "ga_tight_of_best": (BASE + "\n[ga]\nstraight_of_best = 30\ntight_of_best = 20\n",
+                         "ga.tight_of_best"),
+    "ga_tight_of_best_type": (BASE + "\n[ga]\ntight_of_best = 1.5\n", "ga.tight_of_best"),
     "syntax_error": (mutate(("radius = 0.1", "radius = = 0.1")), "line 4"),
     "duplicate_key": (mutate(("x = 0.5\n", "x = 0.5\nx = 0.6\n")), "line"),
 }

@@ -15,7 +15,7 @@ from test_free_turns import _loop_scene, check_path, pose_scene
 
 from hga_jax import scenario_from_dict
 from hga_jax.errors import ConfigError
-from hga_jax.model import free_legs, leg_space
+from hga_jax.model import circle_ids, free_legs, leg_space
 from hga_jax.model.decode import decode_batch as _decode_batch
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import evaluate, looked_up
@@ -198,6 +198,65 @@ def test_the_straight_children_are_the_parents_best_with_straight_legs():
         assert (lg[at] == 0).all() and (legs[best] != 0).any()
     st = dataclasses.replace(RECOMMENDED, turns="tight-rope")
     assert st.structure() == dataclasses.replace(st, straight_of_best=0).structure()
+
+
+def test_the_tight_children_are_the_straight_best_moved_on_the_tangents():
+    """``tight_of_best = t`` (free turns): the t children before the straight ones are the
+    parents' best with every leg gene 0, then moved by the guided move on the tangents'
+    legs (``tight_legs``: a blocked tangent is blocked, as the tight rope reads it) from
+    their own rows of the path move's words; every other child is that of ``t = 0`` bit
+    for bit. Without a path move they stay straight copies; the tight rope ignores it."""
+    from hga_jax.search import guided
+    from hga_jax.search.state import Population
+    from hga_jax.search.variation import _draw, _layout, _legs, _vary
+    from hga_jax.study.parking import generate
+
+    d = generate("behind", 9, 191, 3, "behind", None, "dubins")
+    d["robot"]["car"] = "dubins"
+    sc = scenario_from_dict(d, "behind")
+    sa = free_legs.search_arrays(sc, np.float32, with_legs=True)
+    assert (np.asarray(sa.legs.bad) != np.asarray(sa.tight_legs.bad)).any()
+    rng = np.random.default_rng(8)
+    n, pop, k, t = sc.n, 16, 1, 8
+    perm = np.stack([rng.permutation(n) for _ in range(pop)]).astype(np.int32)
+    labels = rng.choice([-1, 0, 1], size=(pop, n + 2)).astype(np.int32)
+    labels[:, [0, -1]] = rng.choice([-1, 1], (pop, 2))
+    legs = _genes(rng, pop, n)
+    fitness = rng.random(pop).astype(np.float32)
+    best = int(np.argmax(fitness))
+    # the best: start, obstacle 2 CW, obstacle 4 CW, goal; its leg 2 -> 4 is a blocked
+    # tangent (tight rope) that gene 0 gets round by a free leg (free turns)
+    a, c = circle_ids.obstacle(2, 1), circle_ids.obstacle(4, 1)
+    assert np.asarray(sa.tight_legs.bad)[a, c] and not np.asarray(sa.legs.bad)[a, c]
+    perm[best] = [2, 4] + [i for i in range(n) if i not in (2, 4)]
+    labels[best] = [-1, 1, 1] + [0] * (n - 2) + [1]
+    old = Population(perm, labels, fitness, fitness, np.zeros(pop, np.int32), legs)
+    vary = jax.jit(_vary, static_argnums=2)
+    base = dataclasses.replace(FREE_RECOMMENDED, population=pop, straight_of_best=k)
+    words = _draw(jax.random.key(3), n, base)
+    plain = [np.asarray(x) for x in vary(words, old, base, sa)]
+    st = dataclasses.replace(base, tight_of_best=t)
+    p, lab, lg = (np.asarray(x) for x in vary(words, old, st, sa))
+    at = np.arange(pop - k - t, pop - k)
+    rest = np.setdiff1d(np.arange(pop), at)
+    for a, b in zip(plain, (p, lab, lg)):
+        np.testing.assert_array_equal(a[rest], b[rest])
+    first, rows = _layout(n, st)["mutate_path"]
+    m = np.asarray(words)[first + 1:first + rows, at].T  # the path move's words, do-word off
+    args = [jax.numpy.asarray(x) for x in (m, np.repeat(perm[best][None], t, 0),
+                                           np.repeat(labels[best][None], t, 0))]
+    move = jax.jit(guided.guided_from_words)  # one program for both tables
+    moved = move(*args, _legs(sa, st, tight=True))
+    np.testing.assert_array_equal(p[at], np.asarray(moved[0]))
+    np.testing.assert_array_equal(lab[at], np.asarray(moved[1]))
+    assert (lg[at] == 0).all()
+    own = move(*args, _legs(sa, st))  # the model's legs move otherwise
+    assert (np.asarray(own[0]) != p[at]).any() or (np.asarray(own[1]) != lab[at]).any()
+    still = dataclasses.replace(st, path_mutation="none")
+    p, lab, lg = (np.asarray(x) for x in vary(_draw(jax.random.key(3), n, still), old, still, sa))
+    assert (p[at] == perm[best]).all() and (lab[at] == labels[best]).all() and (lg[at] == 0).all()
+    tight = dataclasses.replace(RECOMMENDED, turns="tight-rope")
+    assert tight.structure() == dataclasses.replace(tight, tight_of_best=0).structure()
 
 
 def test_free_turns_need_the_full_collision_test():

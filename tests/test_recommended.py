@@ -44,7 +44,7 @@ def test_presets_and_their_budget():
     assert differs == {"selection", "elites", "path_mutation", "pm_path", "seeding",
                        "seeding_via", "wrap_clearer", "restart_after", "penalty_weight",
                        "generations_per_obstacle",
-                       "ends_of_best", "straight_of_best"}
+                       "ends_of_best", "straight_of_best", "tight_of_best"}
 
 
 # Four obstructed 9-obstacle scenes (the studies' generator, a seed no study or tuning

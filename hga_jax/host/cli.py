@@ -100,6 +100,9 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
                      "at its ends (the Reeds-Shepp car)"),
     "straight_of_best": (int, None, "children per generation that are the parents' best with "
                          "every leg straight (free turns, the Reeds-Shepp car)"),
+    "tight_of_best": (int, None, "children per generation that are the parents' best with "
+                      "every leg straight, moved as the tight rope would move it (free turns, "
+                      "the Reeds-Shepp car)"),
 }
 
 

@@ -59,6 +59,12 @@ def _extras(st: GASettings) -> str:
             k = getattr(st, g.straight)
             out.append(f"{count(k, 'child', 'children')} per generation: the best with "
                        "straight legs")
+        if g.tight and getattr(st, g.tight):
+            k = getattr(st, g.tight)
+            moved = ("moved as the tight rope moves it" if st.path_mutation != "none"
+                     else "not moved (no path move)")
+            out.append(f"{count(k, 'child', 'children')} per generation: the best with "
+                       f"straight legs, {moved}")
     if st.path_mutation != "none":
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
     if st.seeding > 0:

@@ -56,6 +56,8 @@ class GeneModule:
     reversing car's, :mod:`hga_jax.search.end_ops`; empty: none).
     straight: the field of how many children per generation are the parents' best with
     every gene 0 (free turns: every leg a tangent; empty: none).
+    tight: the field of how many children per generation are such copies moved by the
+    path move on the tangents' legs (``ScenarioArrays.tight_legs``; empty: none).
     """
 
     name: str
@@ -68,6 +70,7 @@ class GeneModule:
     ends: str = ""
     pe: str = ""
     straight: str = ""
+    tight: str = ""
 
 
 class CarModel:

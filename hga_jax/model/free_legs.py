@@ -117,7 +117,8 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
     path operators' legs seeing gene 0's free legs (:func:`hga_jax.model.legs.free_aware`)
     and the end arcs those legs make (:func:`hga_jax.model.legs.with_end_arcs`); an end
     leg whose gene-0 arc has a violation counts as clear where another gene's free leg
-    and its arc are."""
+    and its arc are. ``tight_legs``: the tight rope's legs (the tangents, with their
+    end arcs)."""
     dtype = np.dtype(dtype)
     sa = sc.search_arrays(dtype, "full", with_legs)
 
@@ -158,7 +159,7 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
             return lg._replace(length=np.asarray(lg.length, dtype),
                                penalty=np.asarray(lg.penalty, dtype))
 
-        sa = sa._replace(legs=sc.cached(("legs_free", dtype.name), aware))
+        sa = sa._replace(legs=sc.cached(("legs_free", dtype.name), aware), tight_legs=sa.legs)
     return sa
 
 

@@ -23,12 +23,14 @@ from . import car_model
 
 LEGS = car_model.GeneModule(name="legs", weights=(2, 1, 1), crossover="leg_crossover",
                             mutation="leg_mutation", pc="pc_legs", pm="pm_legs",
-                            words="leg genes", straight="straight_of_best")
+                            words="leg genes", straight="straight_of_best",
+                            tight="tight_of_best")
 """One gene per leg: 0 a straight tangent, 1 or 2 a free circle on one side or the other;
 fresh genes are straight half the time (uniform genes cost hits where the tight rope is
 optimal, 91.8 % instead of 99.0 % of runs on the bundled RoboCup scene; straight ones a
 third of the hits where free turns win). ``straight_of_best`` children per generation
-are the parents' best with every leg straight (:mod:`hga_jax.search.variation`)."""
+are the parents' best with every leg straight, ``tight_of_best`` more such copies moved
+as the tight rope would move them (:mod:`hga_jax.search.variation`)."""
 
 
 class FreeTurns(car_model.CarModel):

@@ -212,5 +212,12 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
             return lg._replace(length=np.asarray(lg.length, dtype),
                                penalty=np.asarray(lg.penalty, dtype), ends=np.asarray(True))
 
-        sa = sa._replace(legs=sc.cached(("rs_legs", dtype.name), aware))
+        def tight():
+            s64 = sc.arrays(np.float64)
+            lg = leg_info.build(tangent_table(sc), s64.centres, s64.model_radii, sc.delta)
+            return lg._replace(length=np.asarray(lg.length, dtype),
+                               penalty=np.asarray(lg.penalty, dtype), ends=np.asarray(True))
+
+        sa = sa._replace(legs=sc.cached(("rs_legs", dtype.name), aware),
+                         tight_legs=sc.cached(("rs_tight_legs", dtype.name), tight))
     return sa

@@ -28,7 +28,7 @@ from . import car_model
 LEGS = car_model.GeneModule(name="legs", weights=(6, 1, 1, 1, 1, 1, 1),
                             crossover="leg_crossover", mutation="leg_mutation", pc="pc_legs",
                             pm="pm_legs", words="leg genes (with gears)", ends="end_mutation",
-                            pe="pm_ends", straight="straight_of_best")
+                            pe="pm_ends", straight="straight_of_best", tight="tight_of_best")
 """One gene per leg, seven values (:mod:`hga_jax.model.reversing`): 0 a tangent, 1-2 a
 free circle against the leg's first circle, 3-4 with it (a cusp), 5-6 the quarter
 turns leaving the start and reaching the goal; the goal's gene, 3 or more, starts the
@@ -36,7 +36,8 @@ path backward. Fresh genes are straight half the time (so most fresh paths start
 forward: on development scenes 76-77 % of runs hit on obstructed ones driven by this
 car, 94-95 % on parking-like ones, against 67 % and 94 % with weights 2, 1, ...); the ends of
 the path are also moved whole (``end_mutation``); ``straight_of_best`` children per
-generation are the parents' best with every gene 0 (every leg a tangent driven forward)."""
+generation are the parents' best with every gene 0 (every leg a tangent driven forward),
+``tight_of_best`` more such copies moved as the tight rope would move them."""
 
 
 class ReedsShepp(car_model.CarModel):

@@ -174,6 +174,9 @@ class ScenarioArrays(NamedTuple):
     :meth:`Scenario.search_arrays` fills them.
     legs: the per-leg blockers of :mod:`hga_jax.model.legs` (for the path operators), or
     None; filled by ``search_arrays(..., with_legs=True)``.
+    tight_legs: under a model with leg genes, the legs of its tangents (what ``legs``
+    is for the tight rope: a blocked tangent is blocked even where gene 0 gets round it
+    by a free leg), for the ``tight_of_best`` children; else None.
     free_legs: the :class:`~hga_jax.model.free_legs.LegTable` of free-turn chromosomes,
     turns_free: its turn table's entries (or None: decoded leg by leg); both only from
     :func:`hga_jax.model.free_legs.search_arrays`.
@@ -190,6 +193,7 @@ class ScenarioArrays(NamedTuple):
     turns_full: Any = None
     turns_paper: Any = None
     legs: Any = None
+    tight_legs: Any = None
     free_legs: Any = None
     turns_free: Any = None
 

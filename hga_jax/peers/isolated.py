@@ -15,6 +15,7 @@ and scenarios).
 """
 from __future__ import annotations
 
+import atexit
 import concurrent.futures as cf
 import multiprocessing
 from typing import Any, Callable
@@ -38,3 +39,15 @@ def call(fn: Callable[..., Any], *args: Any, what: str = "a peer", retries: int 
             _worker = None
     raise PeerCrashed(f"{what} crashed {retries + 1} times in a row (its process died; "
                       "the finished cells are kept: run the study again to resume)")
+
+
+def close() -> None:
+    """Ends the worker process, if one runs (also at exit: an executor left to the
+    interpreter's shutdown prints an ignored exception from its clean-up thread)."""
+    global _worker
+    if _worker is not None:
+        _worker.shutdown(wait=True, cancel_futures=True)
+        _worker = None
+
+
+atexit.register(close)

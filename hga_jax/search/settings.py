@@ -59,7 +59,10 @@ around the best, counted as every child). Under free turns and for the Reeds–S
 ``straight_of_best = k`` makes k children of every generation copies of the parents'
 best with every leg gene 0 (each leg the tangent, driven forward): the tight-rope path
 of its touched sequence, which a search with leg genes otherwise reaches only gene by
-gene. Under a model without genes of its own the leg
+gene; ``tight_of_best = k`` makes k more such copies, each then moved
+by the path move as the tight rope scores it (a blocked tangent counts as blocked where
+a free leg gets round it), so a sequence that wraps a blocker, which the model's own
+legs score as no shorter, is still tried. Under a model without genes of its own the leg
 and end settings do nothing and the random stream is the paper's.
 
 ``penalty_weight`` scales the paper's penalty per violation
@@ -111,7 +114,7 @@ class Rates(NamedTuple):
 
 
 MODEL_FIELDS = ("leg_crossover", "leg_mutation", "end_mutation", "ends_of_best",
-                "straight_of_best")
+                "straight_of_best", "tight_of_best")
 """Settings that only a car model with genes of its own reads (:attr:`GASettings.model`):
 under another model they do not change the program (:meth:`GASettings.structure`)."""
 BUDGET_BASE = 9
@@ -156,6 +159,7 @@ class GASettings:
     pm_ends: float = 0.5
     ends_of_best: int = 0
     straight_of_best: int = 0
+    tight_of_best: int = 0
 
     @property
     def model(self) -> car_model.CarModel:
@@ -209,6 +213,7 @@ class GASettings:
         if any(g.ends for g in genes):
             used.add("ends_of_best")
         used.update(g.straight for g in genes if g.straight)
+        used.update(g.tight for g in genes if g.tight)
         idle = {f.name: f.default for f in dataclasses.fields(self)
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
@@ -278,7 +283,8 @@ class GASettings:
             return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
         for key in ("population", "generations", "tournament_size", "elites", "restart_after",
-                    "generations_per_obstacle", "ends_of_best", "straight_of_best"):
+                    "generations_per_obstacle", "ends_of_best", "straight_of_best",
+                    "tight_of_best"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad(key, f"must be an integer, got {v!r}")
@@ -295,6 +301,10 @@ class GASettings:
         if not 0 <= self.straight_of_best < self.population - self.ends_of_best:
             raise bad("straight_of_best", f"must be in 0..{pop()} - ends_of_best "
                       f"({self.ends_of_best}) - 1, got {self.straight_of_best}")
+        if not 0 <= self.tight_of_best < self.population - self.ends_of_best - self.straight_of_best:
+            raise bad("tight_of_best", f"must be in 0..{pop()} - ends_of_best "
+                      f"({self.ends_of_best}) - straight_of_best ({self.straight_of_best}) - 1, "
+                      f"got {self.tight_of_best}")
         if self.generations_per_obstacle < 0:
             raise bad("generations_per_obstacle", f"must be >= 0 (0: a fixed count), "
                       f"got {self.generations_per_obstacle}")
@@ -402,7 +412,7 @@ RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.5,
                          wrap_clearer=0.75, restart_after=12,
                          penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2,
-                         straight_of_best=1)
+                         straight_of_best=1, tight_of_best=1)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
 new legs pass through fewer obstacles), one guided path move per child (the
@@ -410,7 +420,7 @@ best of ten candidate moves by their legs), tournament selection, 2 elites, rest
 of runs stalled for 12 generations, ten times the paper's penalty per violation
 during the search, two children per generation that move the best path's ends (the
 Reeds–Shepp car only), one that is the best path with straight legs (free turns and
-the Reeds–Shepp car), and a budget that grows with the scene: the paper's 50 x 51
+the Reeds–Shepp car) and one more moved as the tight rope would move it, and a budget that grows with the scene: the paper's 50 x 51
 chromosomes up to 9 obstacles, 24 more generations per obstacle beyond (15
 obstacles: 50 x 195 = 9,750; 25: 50 x 435 = 21,750; 40: 50 x 795 = 39,750)
 (``configs/ga/recommended.toml``; measured in docs/results.md)."""

@@ -44,20 +44,21 @@ def bound(perm, labels, settings: GASettings):
     return jnp.concatenate([labels[..., :1], middle, labels[..., -1:]], axis=-1)
 
 
-def _legs(sa: ScenarioArrays, settings: GASettings | None = None):
+def _legs(sa: ScenarioArrays, settings: GASettings | None = None, tight: bool = False):
     """The scenario's legs, their penalty per bad leg scaled as the fitness's delta, and
     the share of wraps that take the side with fewer blockers (``wrap_clearer``; the
-    tight rope only)."""
-    if sa.legs is None:
+    tight rope only). ``tight``: the tangents' legs of a model with leg genes
+    (``sa.tight_legs``), read as the tight rope reads its legs (``tight_of_best``)."""
+    legs = sa.tight_legs if tight else sa.legs
+    if legs is None:
         raise ValueError("these settings use path moves or seeding: pass scenario arrays "
                          "from Scenario.search_arrays(..., with_legs=True)")
-    legs = sa.legs
     if settings is not None and legs.penalty is not None:  # x 1 is exact
         legs = legs._replace(penalty=legs.penalty * settings.penalty_weight)
-    if settings is not None and settings.counts_wrap_sides:  # data: 0: every side random
-        # The tight rope only. Under free turns the legs count a blocked tangent that a
-        # free leg gets round as clear, and the Reeds-Shepp car's legs reverse: with the
-        # share, free turns hit 85.8 % instead of 97.2 % on the bundled scene, and the
+    if settings is not None and (tight or settings.counts_wrap_sides):  # data: 0: random
+        # The tight rope's legs only (and so the tight_of_best children's). Under free
+        # turns the model's own legs count a blocked tangent that a free leg gets round
+        # as clear, and the Reeds-Shepp car's legs reverse: with the share, free turns hit 85.8 % instead of 97.2 % on the bundled scene, and the
         # Reeds-Shepp study's clutter 25 fell from 99.7 to 94.0 % (docs/results.md).
         legs = legs._replace(clearer=settings.wrap_clearer)
     return legs
@@ -235,41 +236,65 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         if k:  # the last k children: the parents' best, moved at its ends
             (perm, labels, genes), tail = _best_copies(old, (perm, labels, genes), 0, k)
             ends = ends | tail
-    if settings.path_mutation != "none" and n >= 1:
-        m, legs = rows("mutate_path"), _legs(sa, settings)
-        move = registry.entry("path_mutation", settings.path_mutation)
-        pos = positional(perm, labels, settings)
-        if move.from_words is not None:  # a built-in reads its own rows of words
-            mp, ml = move.from_words(m[1:].T, perm, pos, legs)
-        else:
-            mp, ml = jax.vmap(lambda k, p, l: move.fn(k, p, l, legs))(_keys(m[1:]), perm, pos)
-        do = (unit(m[0]) < settings.pm_path)[:, None]
+    moves = settings.path_mutation != "none" and n >= 1
+    if moves:
+        mp, ml, do = _path_move(rows("mutate_path"), perm, labels, _legs(sa, settings), settings)
         if ends is not None:  # a child moved at its ends gets no path move
             do = do & ~ends
-        perm, labels = jnp.where(do, mp, perm), jnp.where(do, bound(mp, ml, settings), labels)
+        perm, labels = jnp.where(do, mp, perm), jnp.where(do, ml, labels)
     if ends is not None:
         labels, genes = _ends(rows("mutate_ends"), perm, labels, genes, settings, ends)
     if genes is not None:
-        perm, labels, genes = _straight_of_best(old, perm, labels, genes, settings)
+        perm, labels, genes = _straight_of_best(old, perm, labels, genes, settings,
+                                                rows("mutate_path") if moves else None, sa)
     return perm, labels, genes
 
 
-def _straight_of_best(old: Population, perm, labels, genes, settings: GASettings):
-    """The model's ``straight`` children (``straight_of_best``; free turns, the
-    Reeds-Shepp car): the last children before the ends' (``ends_of_best``) become
-    copies of the parents' best with every gene 0, so each leg the tangent to its next
-    circle (or the free leg that gets round a blocked one, as gene 0 reads; the
-    Reeds-Shepp car's driven forward): the tight-rope path of the best's touched
-    sequence, which the search otherwise reaches only gene by gene (the bundled scene
-    under free turns: 96.8 -> 98.7 % of 3,000 runs; docs/results.md). They read no
-    words and are evaluated as every child."""
+def _path_move(m, perm, labels, legs, settings: GASettings):
+    """The path move (``path_mutation``) of children ``perm``, ``labels`` (the
+    population's binding) on ``legs``, from their rows ``m`` (its do-word, then the
+    move's words): the moved ``(perm, labels)`` and whether each child takes the move
+    ((P, 1) bools, the do-word against ``pm_path``)."""
+    move = registry.entry("path_mutation", settings.path_mutation)
+    pos = positional(perm, labels, settings)
+    if move.from_words is not None:  # a built-in reads its own rows of words
+        mp, ml = move.from_words(m[1:].T, perm, pos, legs)
+    else:
+        mp, ml = jax.vmap(lambda k, p, l: move.fn(k, p, l, legs))(_keys(m[1:]), perm, pos)
+    return mp, bound(mp, ml, settings), (unit(m[0]) < settings.pm_path)[:, None]
+
+
+def _straight_of_best(old: Population, perm, labels, genes, settings: GASettings,
+                      m=None, sa: ScenarioArrays | None = None):
+    """The model's ``straight`` and ``tight`` children (free turns, the Reeds-Shepp
+    car), the last before the ends' (``ends_of_best``): copies of the parents' best
+    with every gene 0, so each leg the tangent to its next circle (or the free leg that
+    gets round a blocked one, as gene 0 reads; the Reeds-Shepp car's driven forward):
+    the tight-rope path of the best's touched sequence, which the search otherwise
+    reaches only gene by gene. The ``straight_of_best`` ones (last) stay so and read no
+    words (the bundled scene under free turns: 96.8 -> 98.7 % of 3,000 runs). The
+    ``tight_of_best`` ones before them then take the path move as the tight rope
+    scores it (``sa.tight_legs``: a blocked tangent counts as blocked although gene 0
+    gets round it by a free leg), from their own rows ``m`` of the path move's words,
+    whose moves on the children they replace are dropped: a touched sequence that
+    wraps a blocker, which the model's own legs score as no shorter (docs/results.md).
+    All are evaluated as every child."""
     (module,) = _genes(settings)
     k = getattr(settings, module.straight) if module.straight else 0
-    if not k:
+    t = getattr(settings, module.tight) if module.tight else 0
+    if not (k or t):
         return perm, labels, genes
     skip = settings.ends_of_best if module.ends else 0
-    (perm, labels, genes), on = _best_copies(old, (perm, labels, genes), skip, k)
-    return perm, labels, jnp.where(on, 0, genes)
+    (perm, labels, genes), on = _best_copies(old, (perm, labels, genes), skip, k + t)
+    genes = jnp.where(on, 0, genes)
+    if t and m is not None:
+        lo = perm.shape[0] - skip - k - t
+        at = slice(lo, lo + t)
+        mp, ml, do = _path_move(m[:, at], perm[at], labels[at], _legs(sa, settings, tight=True),
+                                settings)
+        perm = perm.at[at].set(jnp.where(do, mp, perm[at]))
+        labels = labels.at[at].set(jnp.where(do, ml, labels[at]))
+    return perm, labels, genes
 
 
 def _best_copies(old: Population, children, skip: int, k: int):
