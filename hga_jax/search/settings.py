@@ -301,7 +301,8 @@ class GASettings:
         if not 0 <= self.straight_of_best < self.population - self.ends_of_best:
             raise bad("straight_of_best", f"must be in 0..{pop()} - ends_of_best "
                       f"({self.ends_of_best}) - 1, got {self.straight_of_best}")
-        if not 0 <= self.tight_of_best < self.population - self.ends_of_best - self.straight_of_best:
+        left = self.population - self.ends_of_best - self.straight_of_best
+        if not 0 <= self.tight_of_best < left:
             raise bad("tight_of_best", f"must be in 0..{pop()} - ends_of_best "
                       f"({self.ends_of_best}) - straight_of_best ({self.straight_of_best}) - 1, "
                       f"got {self.tight_of_best}")
@@ -420,9 +421,10 @@ best of ten candidate moves by their legs), tournament selection, 2 elites, rest
 of runs stalled for 12 generations, ten times the paper's penalty per violation
 during the search, two children per generation that move the best path's ends (the
 Reeds–Shepp car only), one that is the best path with straight legs (free turns and
-the Reeds–Shepp car) and one more moved as the tight rope would move it, and a budget that grows with the scene: the paper's 50 x 51
-chromosomes up to 9 obstacles, 24 more generations per obstacle beyond (15
-obstacles: 50 x 195 = 9,750; 25: 50 x 435 = 21,750; 40: 50 x 795 = 39,750)
+the Reeds–Shepp car) and one more moved as the tight rope would move it, and a
+budget that grows with the scene: the paper's 50 x 51 chromosomes up to 9 obstacles,
+24 more generations per obstacle beyond (15 obstacles: 50 x 195 = 9,750; 25: 50 x 435
+= 21,750; 40: 50 x 795 = 39,750)
 (``configs/ga/recommended.toml``; measured in docs/results.md)."""
 
 PRESETS: dict[str, GASettings] = {"recommended": RECOMMENDED, "paper": PAPER}

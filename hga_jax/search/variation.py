@@ -58,8 +58,9 @@ def _legs(sa: ScenarioArrays, settings: GASettings | None = None, tight: bool = 
     if settings is not None and (tight or settings.counts_wrap_sides):  # data: 0: random
         # The tight rope's legs only (and so the tight_of_best children's). Under free
         # turns the model's own legs count a blocked tangent that a free leg gets round
-        # as clear, and the Reeds-Shepp car's legs reverse: with the share, free turns hit 85.8 % instead of 97.2 % on the bundled scene, and the
-        # Reeds-Shepp study's clutter 25 fell from 99.7 to 94.0 % (docs/results.md).
+        # as clear, and the Reeds-Shepp car's legs reverse: with the share, free turns
+        # hit 85.8 % instead of 97.2 % on the bundled scene, and the Reeds-Shepp
+        # study's clutter 25 fell from 99.7 to 94.0 % (docs/results.md).
         legs = legs._replace(clearer=settings.wrap_clearer)
     return legs
 
@@ -275,10 +276,11 @@ def _straight_of_best(old: Population, perm, labels, genes, settings: GASettings
     words (the bundled scene under free turns: 96.8 -> 98.7 % of 3,000 runs). The
     ``tight_of_best`` ones before them then take the path move as the tight rope
     scores it (``sa.tight_legs``: a blocked tangent counts as blocked although gene 0
-    gets round it by a free leg), from their own rows ``m`` of the path move's words,
-    whose moves on the children they replace are dropped: a touched sequence that
-    wraps a blocker, which the model's own legs score as no shorter (docs/results.md).
-    All are evaluated as every child."""
+    gets round it by a free leg), from their own rows ``m`` of the path move's words
+    (the moves of the children they replace are dropped), so that the wrap of such a
+    blocker, which the model's own legs score as no shorter, is still tried (free
+    turns: one held-out scene 45 -> 100 % of runs; docs/results.md). All are evaluated
+    as every child."""
     (module,) = _genes(settings)
     k = getattr(settings, module.straight) if module.straight else 0
     t = getattr(settings, module.tight) if module.tight else 0
