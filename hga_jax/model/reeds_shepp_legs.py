@@ -205,19 +205,17 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
                                    free_legs=leg_table(sc, dtype),
                                    turns_free=sc.cached(("rs_turns", dtype.name), turns))
     if with_legs:
-        def aware():
+        def tangents():  # the tangents' legs in float64, built once for both
             s64 = sc.arrays(np.float64)
-            lg = leg_info.free_aware(leg_info.build(tangent_table(sc), s64.centres,
-                                                    s64.model_radii, sc.delta), leg_table(sc))
+            return leg_info.build(tangent_table(sc), s64.centres, s64.model_radii, sc.delta)
+
+        def device(lg):  # in dtype; the path's ends are left to the end move
             return lg._replace(length=np.asarray(lg.length, dtype),
                                penalty=np.asarray(lg.penalty, dtype), ends=np.asarray(True))
 
-        def tight():
-            s64 = sc.arrays(np.float64)
-            lg = leg_info.build(tangent_table(sc), s64.centres, s64.model_radii, sc.delta)
-            return lg._replace(length=np.asarray(lg.length, dtype),
-                               penalty=np.asarray(lg.penalty, dtype), ends=np.asarray(True))
-
-        sa = sa._replace(legs=sc.cached(("rs_legs", dtype.name), aware),
-                         tight_legs=sc.cached(("rs_tight_legs", dtype.name), tight))
+        base = sc.cached(("rs_tangent_legs",), tangents)
+        sa = sa._replace(
+            legs=sc.cached(("rs_legs", dtype.name),
+                           lambda: device(leg_info.free_aware(base, leg_table(sc)))),
+            tight_legs=sc.cached(("rs_tight_legs", dtype.name), lambda: device(base)))
     return sa
