@@ -58,10 +58,10 @@ TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses"
        "families", "configs", "quick", "yardstick", "cpu_devices"}
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density", "car"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
-KINDS = ("clutter", "obstructed", "clusters", "scattered", "loops", "cluster_loops", "behind",
-         "slot", "wall")
+KINDS = ("clutter", "obstructed", "clusters", "scattered", "corridors", "loops", "cluster_loops",
+         "behind", "slot", "wall")
 """Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters`,
-:mod:`~hga_jax.study.scattered`, for free
+:mod:`~hga_jax.study.scattered`, :mod:`~hga_jax.study.corridors`, for free
 turns :mod:`~hga_jax.study.loops` and, for the Reeds–Shepp car, the parking-like
 :mod:`~hga_jax.study.parking`."""
 ANALYSES = ("paper", "penalty", "scaling", "reversing", "per_scene")
@@ -170,7 +170,7 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
     key = "quick.obstacles" if "obstacles" in quick else f"{where}.obstacles"
     if not isinstance(obs, list) or not obs:
         raise _err(source, key, f"must be a non-empty list of integers, got {obs!r}")
-    least = {"obstructed": 3, "clusters": 3, "scattered": 2}.get(t["kind"], 1)
+    least = {"obstructed": 3, "clusters": 3, "scattered": 2, "corridors": 2}.get(t["kind"], 1)
     obs = tuple(_int(n, source, key, least, 1001) for n in obs)
     scenes = _int(quick.get("scenes", t.get("scenes", 1)), source, f"{where}.scenes", 1, 10_001)
     density = t.get("density")
@@ -182,8 +182,8 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
         low, high = {"clusters": (0.8, 2.0), "scattered": (0.6, 2.5)}[t["kind"]]
         raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (each scene draws "
                    f"its own, {low} to {high} obstacles per square metre); remove it")
-    if density is not None and t["kind"] in ("loops", "cluster_loops", "behind", "slot",
-                                             "wall"):
+    if density is not None and t["kind"] in ("corridors", "loops", "cluster_loops", "behind",
+                                             "slot", "wall"):
         raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (its fields "
                    "are fixed or drawn per scene); remove it")
     car = t.get("car")

@@ -13,6 +13,9 @@ right edge, headings within 60 degrees of +x.
   exact optimum wraps at least three obstacles.
 - ``clusters`` (:mod:`hga_jax.study.clusters`): held-out scenes by another rule
   (clumps, per-scene robot and field, any headings), blocked as ``obstructed``.
+- ``scattered`` (:mod:`hga_jax.study.scattered`) and ``corridors``
+  (:mod:`hga_jax.study.corridors`): two more held-out rules (obstacles strewn with
+  mixed radii; barriers across the field with gaps to thread).
 - ``loops`` and ``cluster_loops`` (:mod:`hga_jax.study.loops`): poses a few turning
   radii apart, kept where free turns beat the tight rope (for ``turns = "free"``).
 - ``behind``, ``slot`` and ``wall`` (:mod:`hga_jax.study.parking`): parking-like poses
@@ -77,6 +80,10 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
         from . import clusters
 
         return clusters.generate(n, seed, index, name, density)
+    if kind == "corridors":
+        from . import corridors
+
+        return corridors.generate(n, seed, index, name, density)
     if kind == "scattered":
         from . import scattered
 
