@@ -410,7 +410,7 @@ PAPER = GASettings()
 """The paper's HGA (section 4): the defaults of :class:`GASettings`."""
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
-                         path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.5,
+                         path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.75,
                          wrap_clearer=0.75, restart_after=12,
                          penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2,
                          straight_of_best=1, tight_of_best=1)
