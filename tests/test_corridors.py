@@ -10,12 +10,12 @@ from hga_jax.study import corridors, load_study
 from hga_jax.study.scene_files import blocked
 from hga_jax.study.scenes import generate
 
-CASES = [(n, seed, i) for n, seed in ((9, 0), (9, 3), (15, 0), (26, 1)) for i in range(3)]
+CASES = [(n, seed, i) for n, seed in ((9, 0), (9, 3), (15, 0), (26, 1)) for i in range(2)]
 
 
 @pytest.fixture(scope="module")
 def pool():
-    """12 scenes: 9, 15 and 26 obstacles (one, two and three barriers)."""
+    """8 scenes: 9, 15 and 26 obstacles (one, two and three barriers)."""
     return {c: generate("corridors", c[0], c[1], c[2], f"c{c[0]}_{c[2]}") for c in CASES}
 
 
