@@ -1,41 +1,24 @@
-"""The ``clusters`` scene family: seeded, blocked, solvable, and unlike ``obstructed``."""
+"""The ``clusters`` scene family: unlike ``obstructed`` (seeded, blocked and solvable:
+tests/test_held_out_generators.py)."""
 import os
-import re
 
 import numpy as np
 import pytest
+from test_held_out_generators import pool as held_out_pool
 
-from hga_jax.errors import ConfigError
 from hga_jax.host.config import load_scenario, scenario_from_dict
-from hga_jax.model.exact import solve
-from hga_jax.study import clusters, load_study
+from hga_jax.study import load_study
 from hga_jax.study.config import Family
-from hga_jax.study.scene_files import blocked as _blocked
-from hga_jax.study.scenes import FIELD_W, FIELD_H, family_scenes, generate
-
-CASES = [(n, seed, i) for n in (9, 15) for seed in (0, 7) for i in range(5)]
-
+from hga_jax.study.scenes import FIELD_W, FIELD_H, family_scenes
 
 @pytest.fixture(scope="module")
 def pool():
-    """20 scenes: n in (9, 15), two seeds, five each."""
-    return {c: generate("clusters", c[0], c[1], c[2], f"c{c[0]}_{c[2]}") for c in CASES}
+    """20 scenes: n in (9, 15), two seeds, five each (the generators' shared test scenes)."""
+    return held_out_pool("clusters")
 
 
-def test_seeded_by_seed_count_and_index(pool):
-    assert clusters.generate(9, 0, 1, "c9_1") == pool[(9, 0, 1)]
-    assert pool[(9, 0, 0)] != pool[(9, 0, 1)]
-    assert pool[(9, 0, 0)]["obstacles"] != pool[(9, 7, 0)]["obstacles"]
-
-
-def test_every_scene_is_blocked_and_its_optimum_wraps_three(pool):
-    for (n, _, _), d in pool.items():
-        sc = scenario_from_dict(d)
-        assert sc.n == n and sc.field is not None and sc.field.keep_inside
-        assert _blocked(sc)
-        opt = solve(sc)
-        assert opt.feasible and opt.expressible
-        assert len({o for o, _ in opt.touched}) >= 3
+def test_every_field_is_kept(pool):
+    assert all(scenario_from_dict(d).field.keep_inside for d in pool.values())
 
 
 def test_radii_headings_fields_and_ends_vary(pool):
@@ -79,14 +62,3 @@ def test_study_with_a_clusters_family_parses(tmp_path):
     p.write_text(STUDY.format(obstacles="[9, 15]", extra=""))
     fam = load_study(str(p)).families[0]
     assert fam == Family("held_out", "clusters", (9, 15), 4, 2, None)
-
-
-@pytest.mark.parametrize("obstacles, extra, key", [
-    ("[9]", "density = 1.4\n", "families[1].density"),
-    ("[2]", "", "families[1].obstacles"),
-])
-def test_bad_clusters_family_names_the_key(tmp_path, obstacles, extra, key):
-    p = tmp_path / "study.toml"
-    p.write_text(STUDY.format(obstacles=obstacles, extra=extra))
-    with pytest.raises(ConfigError, match=re.escape(key)):
-        load_study(str(p))

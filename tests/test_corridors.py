@@ -1,39 +1,19 @@
 """The ``corridors`` scene family (held-out scenes for the search): barriers of
-overlapping circles across the field, each with a gap or two, seeded, blocked, solvable."""
+overlapping circles across the field, each with a gap or two (seeded, blocked and
+solvable: tests/test_held_out_generators.py)."""
 import numpy as np
 import pytest
+from test_held_out_generators import pool as held_out_pool
 
-from hga_jax.errors import ConfigError
 from hga_jax.host.config import scenario_from_dict
-from hga_jax.model.exact import solve
-from hga_jax.study import corridors, load_study
-from hga_jax.study.scene_files import blocked
-from hga_jax.study.scenes import generate
+from hga_jax.study import corridors
 
-CASES = [(n, seed, i) for n, seed in ((9, 0), (9, 3), (15, 0), (26, 1)) for i in range(2)]
-
-
-@pytest.fixture(scope="module")
-def pool():
-    """8 scenes: 9, 15 and 26 obstacles (one, two and three barriers)."""
-    return {c: generate("corridors", c[0], c[1], c[2], f"c{c[0]}_{c[2]}") for c in CASES}
-
-
-def test_seeded_by_seed_count_and_index(pool):
-    assert corridors.generate(9, 0, 1, "c9_1") == pool[(9, 0, 1)]
-    assert pool[(9, 0, 0)] != pool[(9, 0, 1)]
-    assert pool[(9, 0, 0)]["obstacles"] != pool[(9, 3, 0)]["obstacles"]
-
-
-def test_every_scene_is_blocked_and_its_optimum_wraps_two(pool):
-    for (n, _, _), d in pool.items():
-        sc = scenario_from_dict(d)
-        assert sc.n == n and blocked(sc)
-        opt = solve(sc)
-        assert opt.feasible and opt.expressible
-        assert len({o for o, _ in opt.touched}) >= 2
+def test_robots_and_obstacles_vary_within_their_ranges():
+    scs = [scenario_from_dict(d) for d in held_out_pool("corridors").values()]
+    for sc in scs:
         assert 0.05 <= sc.robot_radius <= 0.12 and 0.09 <= sc.min_turn_radius <= 0.25
         assert np.all((sc.radii >= 0.03) & (sc.radii <= 0.15))
+    assert any(np.ptp(sc.model_radii) > 1e-6 for sc in scs)
 
 
 @pytest.mark.parametrize("n", [9, 15, 26, 40])
@@ -60,14 +40,3 @@ def test_barriers_are_closed_but_at_their_gaps_and_reach_past_the_edges(n):
         pairs, zigzags = pairs + len(one), zigzags + sum(a != b for a, b in one)
     if n > 12:  # several barriers: one-gap neighbours' gaps mostly alternate between halves
         assert pairs >= 5 and zigzags >= 0.6 * pairs
-
-
-def test_a_study_takes_the_kind_and_refuses_a_density(tmp_path):
-    text = ('name = "s"\nruns = 2\n[[families]]\nname = "co"\nkind = "corridors"\n'
-            'obstacles = [9]\nscenes = 1\n[[configs]]\nlabel = "paper"\n')
-    (tmp_path / "ok.toml").write_text(text)
-    assert load_study(str(tmp_path / "ok.toml")).families[0].kind == "corridors"
-    (tmp_path / "bad.toml").write_text(text.replace("scenes = 1", "scenes = 1\ndensity = 1.0"))
-    with pytest.raises(ConfigError, match=r"bad\.toml: families\[1\]\.density: not used by "
-                                          r"kind corridors"):
-        load_study(str(tmp_path / "bad.toml"))

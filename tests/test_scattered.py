@@ -1,37 +1,16 @@
-"""The ``scattered`` scene family (held-out scenes for the search): seeded, blocked,
-solvable, walls in about half of the scenes, poses that may hug a wall."""
+"""The ``scattered`` scene family (held-out scenes for the search): robots, obstacle
+sizes and fields that vary, walls in about half of the scenes, poses that may hug a wall
+(seeded, blocked and solvable: tests/test_held_out_generators.py)."""
 import numpy as np
 import pytest
+from test_held_out_generators import pool as held_out_pool
 
-from hga_jax.errors import ConfigError
 from hga_jax.host.config import scenario_from_dict
-from hga_jax.model.exact import solve
-from hga_jax.study import load_study, scattered
-from hga_jax.study.scene_files import blocked
-from hga_jax.study.scenes import generate
-
-CASES = [(n, seed, i) for n in (6, 12) for seed in (0, 5) for i in range(6)]
-
 
 @pytest.fixture(scope="module")
 def pool():
-    """24 scenes: n in (6, 12), two seeds, six each."""
-    return {c: generate("scattered", c[0], c[1], c[2], f"s{c[0]}_{c[2]}") for c in CASES}
-
-
-def test_seeded_by_seed_count_and_index(pool):
-    assert scattered.generate(6, 0, 1, "s6_1") == pool[(6, 0, 1)]
-    assert pool[(6, 0, 0)] != pool[(6, 0, 1)]
-    assert pool[(6, 0, 0)]["obstacles"] != pool[(6, 5, 0)]["obstacles"]
-
-
-def test_every_scene_is_blocked_and_its_optimum_wraps_two(pool):
-    for (n, _, _), d in pool.items():
-        sc = scenario_from_dict(d)
-        assert sc.n == n and blocked(sc)
-        opt = solve(sc)
-        assert opt.feasible and opt.expressible
-        assert len({o for o, _ in opt.touched}) >= 2
+    """24 scenes: n in (6, 12), two seeds, six each (the generators' shared test scenes)."""
+    return held_out_pool("scattered")
 
 
 def test_robots_obstacles_fields_and_walls_vary(pool):
@@ -54,14 +33,3 @@ def test_robots_obstacles_fields_and_walls_vary(pool):
     near = [min(x - sc.field.xmin, sc.field.xmax - x, y - sc.field.ymin, sc.field.ymax - y)
             - sc.robot_radius - sc.min_turn_radius for sc in scs for x, y, _ in (sc.start, sc.goal)]
     assert min(near) < 0
-
-
-def test_a_study_takes_the_kind_and_refuses_a_density(tmp_path):
-    text = ('name = "s"\nruns = 2\n[[families]]\nname = "sc"\nkind = "scattered"\n'
-            'obstacles = [9]\nscenes = 1\n[[configs]]\nlabel = "paper"\n')
-    (tmp_path / "ok.toml").write_text(text)
-    assert load_study(str(tmp_path / "ok.toml")).families[0].kind == "scattered"
-    (tmp_path / "bad.toml").write_text(text.replace("scenes = 1", "scenes = 1\ndensity = 1.0"))
-    with pytest.raises(ConfigError, match=r"bad\.toml: families\[1\]\.density: not used by "
-                                          r"kind scattered"):
-        load_study(str(tmp_path / "bad.toml"))
