@@ -191,8 +191,8 @@ def test_held_out_quick_tables_every_scene(tmp_path):
     assert _study("held_out", "--quick", "--out", str(tmp_path), "--quiet", "--no-figures") == 0
     table = _csv(tmp_path / "per_scene.csv")
     rows = _csv(tmp_path / "runs.csv")
-    assert {t["family"] for t in table} == {"scattered", "clusters", "obstructed", "behind",
-                                            "slot", "wall"}
+    assert {t["family"] for t in table} == {"scattered", "clusters", "obstructed", "corridors",
+                                            "behind", "slot", "wall"}
     for t in table:
         by: dict[str, list[bool]] = {}
         for r in rows:
