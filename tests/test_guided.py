@@ -194,3 +194,46 @@ def test_the_population_form_moves_each_chromosome_as_it_moves_alone(path):
         np.testing.assert_array_equal(a, b)
     assert (np.asarray(got[1]) != labels).any()  # the moves did something
     assert (np.asarray(got[3]) != labels).any()  # and so did the wraps
+
+
+@pytest.mark.parametrize("plan", path_ops.PLANS, ids=lambda f: f.__name__)
+def test_the_arc_term_is_the_moved_obstacles_arc_where_it_leaves_and_enters(plan):
+    """``guided_arcs``: with the arcs table a plan's change gains ``arc_penalty`` where the
+    moved obstacle's arc at its new place (between its touched neighbours in the
+    chromosome the plan makes) has a violation of its own, and loses it where its arc at
+    the old place had one (found here by a plain pass over both chromosomes); an end's
+    flip moves no obstacle and adds nothing; without the table the change is the legs'."""
+    sc = load_scenario("configs/scenarios/overlapping.toml")
+    legs = sc.search_arrays(np.float64, with_legs=True).legs
+    arcs = np.asarray(legs.arcs)
+    assert arcs.shape == (sc.n * 2 + 4,) * 3 and 0 < arcs.mean() < 1
+    perm, labels = _random(sc.n, 300, seed=5)
+    keys = jax.random.split(rng.key(3), len(perm))
+    charge = 0.7 * float(legs.penalty)
+    with jax.enable_x64(True):
+        def one(k, p, lab):
+            pl = plan(k, p, lab, legs)
+            v, w = path_ops.view(p, lab, legs), guided.weights(legs)
+            return (guided.change(pl, p, lab, v, w),
+                    guided.change(pl, p, lab, v, w, legs.arcs, charge),
+                    pl, path_ops.apply(p, lab, pl))
+        plain, scored, plans, (mp, ml) = jax.jit(jax.vmap(one))(keys, perm, labels)
+
+    def arc(p, lab, o):  # 1 where obstacle o is touched and its arc has a violation
+        ids, touched = (np.asarray(x) for x in path_ops.path_circles(jnp.asarray(p),
+                                                                     jnp.asarray(lab)))
+        at = int(np.flatnonzero(np.asarray(p) == o)[0]) + 1
+        on = list(np.flatnonzero(touched))
+        if at not in on:
+            return 0
+        k = on.index(at)
+        return int(arcs[ids[on[k - 1]], ids[at], ids[on[k + 1]]])
+
+    extra = np.asarray(scored) - np.asarray(plain)
+    ends = np.asarray(plans.end) >= 0
+    want = [0.0 if ends[i] else charge * (arc(mp[i], ml[i], perm[i][int(plans.j[i])])
+                                          - arc(perm[i], labels[i], perm[i][int(plans.j[i])]))
+            for i in range(len(perm))]
+    np.testing.assert_allclose(extra, want, rtol=0, atol=1e-9)
+    if plan is not path_ops.plan_flip:
+        assert (np.asarray(want) != 0).mean() > 0.05  # the arcs do change the score

@@ -88,6 +88,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
                     "through one random obstacle instead of the direct path"),
     "wrap_clearer": (float, None, "share of the wraps (seeding, repair) that go round the "
                      "side whose two new legs pass through fewer obstacles (tight rope)"),
+    "guided_arcs": (float, None, "share of the penalty the guided move's score adds for the "
+                    "moved obstacle's arc where it has a violation of its own (tight rope)"),
     "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),

@@ -66,7 +66,10 @@ def _extras(st: GASettings) -> str:
             out.append(f"{count(k, 'child', 'children')} per generation: the best with "
                        f"straight legs, {moved}")
     if st.path_mutation != "none":
-        out.append(f"path move {st.path_mutation} (pm {st.pm_path:g})")
+        arcs = (f", arcs at {pct(st.guided_arcs)} of the penalty"
+                if st.path_mutation == "guided" and st.guided_arcs > 0 and st.counts_wrap_sides
+                else "")
+        out.append(f"path move {st.path_mutation} (pm {st.pm_path:g}{arcs})")
     if st.seeding > 0:
         via = (f", {pct(st.seeding_via)} of them from a path via a random obstacle"
                if st.seeding_via > 0 else "")

@@ -159,7 +159,10 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
             return lg._replace(length=np.asarray(lg.length, dtype),
                                penalty=np.asarray(lg.penalty, dtype))
 
-        sa = sa._replace(legs=sc.cached(("legs_free", dtype.name), aware), tight_legs=sa.legs)
+        # the tight rope's legs, without the arcs of its turn table (guided_arcs: the
+        # tight rope only)
+        sa = sa._replace(legs=sc.cached(("legs_free", dtype.name), aware),
+                         tight_legs=sa.legs._replace(arcs=None))
     return sa
 
 

@@ -132,6 +132,13 @@ class Scenario:
         table = self._turns[collision]
         if table is None:
             return sa
+        if sa.legs is not None:  # the arcs' own violations, for the guided move
+            key = ("arcs", collision)
+            if key not in self._turns:
+                tb = self.arrays(np.float64).tangents
+                self._turns[key] = legs.arcs_from_turns(
+                    table, tb.violations_full if collision == "full" else tb.violations_paper)
+            sa = sa._replace(legs=sa.legs._replace(arcs=self._turns[key]))
         field = "turns_full" if collision == "full" else "turns_paper"
         return sa._replace(**{field: np.asarray(table, sa.centres.dtype)})
 

@@ -73,7 +73,8 @@ def leg_score(perm: Array, labels: Array, legs) -> Array:
     return total
 
 
-def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array) -> Array:
+def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array,
+           arcs: Array | None = None, arc_penalty: Array | float = 0.0) -> Array:
     """:func:`leg_score` of the chromosome ``plan`` makes minus that of ``(perm,
     labels)`` (``v``: its :func:`path_ops.view`; ``w``: :func:`weights`), from the legs
     the plan removes and adds: the obstacle at position ``j`` leaves its place between
@@ -81,7 +82,12 @@ def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array) -
     not 0); a flipped end changes its one leg. Both sums are formed in one order, so a
     plan that changes nothing scores 0. Every place is read from the view's running
     neighbours, a few look-ups per candidate whatever the length of the path. ``plan``
-    may hold several candidates along leading axes of its own (scored side by side)."""
+    may hold several candidates along leading axes of its own (scored side by side).
+
+    With ``arcs`` (:func:`hga_jax.model.legs.arcs_from_turns`), the moved obstacle's
+    arc counts too: ``arc_penalty`` more where its arc at the new place has a violation
+    of its own, less where its arc at the old place had one (its neighbours' arcs,
+    which change as well, are not read)."""
     s = labels.shape[0]
     n = s - 2
 
@@ -117,6 +123,10 @@ def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array) -
     old_end, new_end = jnp.where(flipped, old_end, 0.0), jnp.where(flipped, new_end, 0.0)
     added = W(c2p, c_new, enters) + W(c_new, c2q, enters) + W(cp, cq, was) + new_end
     removed = W(cp, c_old, was) + W(c_old, cq, was) + W(c2p, c2q, enters) + old_end
+    if arcs is not None:
+        a = jnp.asarray(arcs)
+        added = added + jnp.where(enters & (a[c2p, c_new, c2q] > 0), arc_penalty, 0.0)
+        removed = removed + jnp.where(was & (a[cp, c_old, cq] > 0), arc_penalty, 0.0)
     return added - removed
 
 
@@ -144,7 +154,9 @@ def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array
         at += PER_MOVE * count
     wt = weights(legs)
     stacked = Plan(*(jnp.concatenate(field) for field in zip(*plans)))  # (candidates, ...)
-    scores = change(stacked, perm, labels, v, wt)
+    arcs = None if legs.arcs is None or legs.arc_share is None else legs.arcs
+    scores = change(stacked, perm, labels, v, wt, arcs,
+                    None if arcs is None else legs.penalty * legs.arc_share)
     best = first_min(scores)
     return path_ops.apply(perm, labels, Plan(*(pick(field, best) for field in stacked)))
 

@@ -34,6 +34,12 @@ round the side of the wrapped obstacle whose two new legs pass through fewer obs
 wrap whose two sides pass through as many, take a random side (0: every side random).
 The tight rope only: under free turns and for the Reeds–Shepp car the wraps keep random
 sides (their legs are not the tangents whose blockers the share counts).
+``guided_arcs``: the share of the penalty that the guided move's score adds for the arc
+on the moved obstacle's circle when that arc has a violation of its own (it runs into
+an obstacle whose model circle overlaps, or out of a kept field), where it leaves and
+where it enters (read from the turn table, as a leg's violation is read from the leg
+table; the arcs of its neighbours, which change too, are not read). The tight rope,
+where a turn table is built; 0: legs only.
 ``restart_after = R``: at generations R, 2R, 3R, ..., a run whose best-so-far
 did not improve in the last R generations starts a new population, drawn like
 generation 0, without elites (0: never restart). The best-so-far is kept.
@@ -84,11 +90,12 @@ from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
 RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
-         "pm_ends", "seeding_via", "wrap_clearer", "penalty_weight", "seeding", "restart_after")
+         "pm_ends", "seeding_via", "wrap_clearer", "guided_arcs", "penalty_weight", "seeding",
+         "restart_after")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
 configurations that differ only in these run the same program. Of ``seeding`` and
 ``restart_after`` only whether they are on (> 0) is structure."""
-SHARES = RATES[:10]
+SHARES = RATES[:11]
 """The :data:`RATES` that are probabilities or shares (float32 in the program)."""
 
 
@@ -108,6 +115,7 @@ class Rates(NamedTuple):
     pm_ends: Any
     seeding_via: Any
     wrap_clearer: Any
+    guided_arcs: Any
     penalty_weight: Any
     seeded: Any
     restart_after: Any
@@ -148,6 +156,7 @@ class GASettings:
     seeding: float = 0.0
     seeding_via: float = 0.0
     wrap_clearer: float = 0.0
+    guided_arcs: float = 0.0
     restart_after: int = 0
     generations_per_obstacle: int = 0
     turns: str = car_model.DEFAULT
@@ -312,7 +321,8 @@ class GASettings:
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
-                    "seeding_via", "wrap_clearer", "pc_legs", "pm_legs", "pm_ends"):
+                    "seeding_via", "wrap_clearer", "guided_arcs", "pc_legs", "pm_legs",
+                    "pm_ends"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")
@@ -411,13 +421,13 @@ PAPER = GASettings()
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.75,
-                         wrap_clearer=0.75, restart_after=12,
+                         wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
                          penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2,
                          straight_of_best=1, tight_of_best=1)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
 new legs pass through fewer obstacles), one guided path move per child (the
-best of ten candidate moves by their legs), tournament selection, 2 elites, restarts
+best of ten candidate moves by their legs and the moved obstacle's arc), tournament selection, 2 elites, restarts
 of runs stalled for 12 generations, ten times the paper's penalty per violation
 during the search, two children per generation that move the best path's ends (the
 Reeds–Shepp car only), one that is the best path with straight legs (free turns and

@@ -62,6 +62,8 @@ def _legs(sa: ScenarioArrays, settings: GASettings | None = None, tight: bool = 
         # hit 85.8 % instead of 97.2 % on the bundled scene, and the Reeds-Shepp
         # study's clutter 25 fell from 99.7 to 94.0 % (docs/results.md).
         legs = legs._replace(clearer=settings.wrap_clearer)
+    if settings is not None and legs.arcs is not None:  # data: 0: legs only
+        legs = legs._replace(arc_share=settings.guided_arcs)
     return legs
 
 
