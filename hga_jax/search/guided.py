@@ -18,10 +18,14 @@ alike alone and in any batch.
 
 Nothing is decoded: a guided move costs no evaluation, and the GA then evaluates
 the child it made, as every child (a run still evaluates ``population x
-(generations + 1)`` chromosomes). The score knows nothing of the arcs on obstacles'
-circles, whose length and violations depend on the legs on both sides of them: a
-candidate whose legs are short and clear may still collide on such an arc, and only
-its evaluation tells.
+(generations + 1)`` chromosomes). The arcs on obstacles' circles depend on the legs on
+both sides of them: their lengths the score leaves out. Their violations it may read
+(``guided_arcs``, :func:`change`): an arc runs into another obstacle only where the
+two model circles overlap (a barrier, a clump), and the turn table says which turns
+do, as the leg table says which legs do; the score then counts the moved obstacle's
+own arc where it leaves and where it enters (its neighbours' arcs, which change too,
+it does not read). Otherwise a candidate whose legs are short and clear may still
+collide on an arc, and only its evaluation tells.
 
 Conventions as :mod:`hga_jax.search.path_ops`: one chromosome, ``perm`` (n,) and
 positional labels (n + 2,), or a population laid out after the positions (the GA's
