@@ -238,7 +238,8 @@ def test_summary_reads_well(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "None" not in text and "1 runs" not in text and "1 run of seed 0" in text
     assert "collision full" in text and "tournament selection (size 2)" in text
-    assert "operators (preset recommended)" in text and "path move guided (pm 1)" in text
+    assert "operators (preset recommended)" in text
+    assert "path move guided (pm 1, arcs at 100.00% of the penalty)" in text
     # 1 obstacle: 2 generations, as the rule says
     assert "2 generations (generations = 2 + 24 * max(0, n - 9))" in text
     assert "restart after 12 stalled generations" in text

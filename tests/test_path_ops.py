@@ -684,8 +684,10 @@ def test_legs_are_built_once_per_scenario_and_only_on_request():
     a = sc.search_arrays(with_legs=True).legs
     assert a is sc.search_arrays(with_legs=True).legs
     b = sc.search_arrays(np.float64, "full", with_legs=True).legs  # lengths per dtype
-    assert a.blockers is b.blockers and a.bad is b.bad
+    assert a.blockers is b.blockers and a.bad is b.bad and a.arcs is b.arcs
     assert a.length.dtype == np.float32 and b.length.dtype == np.float64
+    assert a.arcs.shape == (22, 22, 22) and sc.search_arrays(collision="paper",
+                                                             with_legs=True).legs.arcs is not a.arcs
     assert isinstance(a, legs_mod.Legs) and a.blockers.shape == (22, 22, 9)
 
 

@@ -132,13 +132,15 @@ class Scenario:
         table = self._turns[collision]
         if table is None:
             return sa
-        if sa.legs is not None:  # the arcs' own violations, for the guided move
-            key = ("arcs", collision)
+        if sa.legs is not None:  # with the arcs' own violations, for the guided move
+            key = ("legs", np.dtype(dtype).name, collision)
             if key not in self._turns:
-                tb = self.arrays(np.float64).tangents
-                self._turns[key] = legs.arcs_from_turns(
-                    table, tb.violations_full if collision == "full" else tb.violations_paper)
-            sa = sa._replace(legs=sa.legs._replace(arcs=self._turns[key]))
+                if ("arcs", collision) not in self._turns:  # once per collision rule
+                    tb = self.arrays(np.float64).tangents
+                    self._turns["arcs", collision] = legs.arcs_from_turns(table, (
+                        tb.violations_full if collision == "full" else tb.violations_paper))
+                self._turns[key] = sa.legs._replace(arcs=self._turns["arcs", collision])
+            sa = sa._replace(legs=self._turns[key])
         field = "turns_full" if collision == "full" else "turns_paper"
         return sa._replace(**{field: np.asarray(table, sa.centres.dtype)})
 
