@@ -59,7 +59,7 @@ class Legs(NamedTuple):
     reversing car's: the start's and goal's labels go with their gears,
     :mod:`hga_jax.search.end_ops`). ``clearer``: the search's ``wrap_clearer`` share
     (a float32 scalar; None: every wrap takes a random side), set by the GA. ``arcs``
-    (C, C, C) int8: 1 where the arc on circle ``b`` from the tangent ``a -> b`` to the
+    (C, C, C) bool: True where the arc on circle ``b`` from the tangent ``a -> b`` to the
     tangent ``b -> c`` has a violation of its own (:func:`arcs_from_turns`; None without
     a turn table); ``arc_share``: the search's ``guided_arcs`` (float32), set by the GA."""
 
@@ -171,7 +171,7 @@ def free_aware(legs: Legs, table) -> Legs:
 
 
 def arcs_from_turns(entries, tangent_violations) -> np.ndarray:
-    """Which arcs on circles have a violation of their own (C, C, C) int8, indexed ``[a,
+    """Which arcs on circles have a violation of their own (C, C, C) bool, indexed ``[a,
     b, c]`` as the turn :mod:`hga_jax.model.turns` (tight rope) from ``a`` to ``c`` round
     ``b``: the turn's violations less those of its leaving tangent ``b -> c``
     (``tangent_violations`` (C, C), of the same collision rule). The arc of a start or
@@ -179,5 +179,4 @@ def arcs_from_turns(entries, tangent_violations) -> np.ndarray:
     v = np.asarray(tangent_violations)
     c = v.shape[0]
     turn = np.asarray(entries)[:, 1].reshape(c + 1, c, c + 1)[:c, :, :c]
-    return ((turn - v[None, :, :]) > 0.5).astype(np.int8)
-
+    return (turn - v[None, :, :]) > 0.5

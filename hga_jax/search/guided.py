@@ -129,8 +129,8 @@ def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array,
     removed = W(cp, c_old, was) + W(c_old, cq, was) + W(c2p, c2q, enters) + old_end
     if arcs is not None:
         a = jnp.asarray(arcs)
-        added = added + jnp.where(enters & (a[c2p, c_new, c2q] > 0), arc_penalty, 0.0)
-        removed = removed + jnp.where(was & (a[cp, c_old, cq] > 0), arc_penalty, 0.0)
+        added = added + jnp.where(enters & a[c2p, c_new, c2q], arc_penalty, 0.0)
+        removed = removed + jnp.where(was & a[cp, c_old, cq], arc_penalty, 0.0)
     return added - removed
 
 
@@ -158,9 +158,9 @@ def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array
         at += PER_MOVE * count
     wt = weights(legs)
     stacked = Plan(*(jnp.concatenate(field) for field in zip(*plans)))  # (candidates, ...)
-    arcs = None if legs.arcs is None or legs.arc_share is None else legs.arcs
+    arcs = legs.arcs if legs.arc_share is not None else None  # the GA sets the share
     scores = change(stacked, perm, labels, v, wt, arcs,
-                    None if arcs is None else legs.penalty * legs.arc_share)
+                    legs.penalty * legs.arc_share if arcs is not None else 0.0)
     best = first_min(scores)
     return path_ops.apply(perm, labels, Plan(*(pick(field, best) for field in stacked)))
 
