@@ -5,6 +5,7 @@ import os
 import subprocess
 import sys
 
+import _xla
 import pytest
 
 from hga_jax.running import devices
@@ -33,7 +34,7 @@ print(json.dumps(out))
 
 
 def _fresh(args, xla_flags=""):
-    env = {**os.environ, "JAX_PLATFORMS": "cpu", "XLA_FLAGS": xla_flags}
+    env = {**os.environ, "JAX_PLATFORMS": "cpu", "XLA_FLAGS": _xla.flags(xla_flags)}
     proc = subprocess.run([sys.executable, "-c", COUNTS, json.dumps(args)], capture_output=True,
                           text=True, env=env, check=True)
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -103,7 +104,7 @@ def test_cli_refuses_a_bad_device_count(tmp_path, capsys):
 def test_runs_are_the_same_on_one_and_on_three_devices(tmp_path):
     """7 runs on 3 devices: batches padded to a multiple of 3 and split; every run,
     history line and summary figure equals the one-device job's."""
-    env = {**os.environ, "JAX_PLATFORMS": "cpu", "XLA_FLAGS": ""}
+    env = {**os.environ, "JAX_PLATFORMS": "cpu", "XLA_FLAGS": _xla.flags()}
     docs, histories = [], []
     for devices in (1, 3):
         out = tmp_path / f"d{devices}"

@@ -1,0 +1,52 @@
+"""The default lane builds its programs at XLA's backend optimisation level 0
+(conftest.py), for a shorter compile; a user's programs are built at XLA's default
+level. The searches must be the same bits: here the recommended and the paper preset,
+run in this process and in a fresh one at the default level."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+import hga_jax as hg
+from hga_jax.host.config import load_scenario
+
+ROBOCUP = "configs/scenarios/robocup_paper.toml"
+RUNS = """
+import json, sys
+import numpy as np
+import hga_jax as hg
+from hga_jax.host.config import load_scenario
+sc = load_scenario(sys.argv[1])
+out = {}
+for preset in ("recommended", "paper"):
+    r = hg.run_many(sc, preset, seed=3, runs=40)
+    out[preset] = {"perm": r.perm.tolist(), "labels": r.labels.tolist(),
+                   "generation": r.generation.tolist(), "violations": r.violations.tolist(),
+                   "best": np.asarray(r.history["best_so_far_fitness"]).view(np.uint32).tolist(),
+                   "length": r.length.tolist()}
+print(json.dumps(out))
+"""
+
+
+def _runs(env=None):
+    proc = subprocess.run([sys.executable, "-c", RUNS, ROBOCUP], capture_output=True, text=True,
+                          env=env, check=True)
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_the_lanes_programs_search_as_a_users_do():
+    flags = [f for f in os.environ.get("XLA_FLAGS", "").split()
+             if not f.startswith("--xla_backend_optimization_level")]
+    user = _runs({**os.environ, "XLA_FLAGS": " ".join(flags), "HGA_JAX_CACHE_DIR": "off"})
+    sc = load_scenario(ROBOCUP)
+    for preset in ("recommended", "paper"):
+        r = hg.run_many(sc, preset, seed=3, runs=40)
+        theirs = user[preset]
+        assert np.array_equal(r.perm, theirs["perm"]) and np.array_equal(r.labels, theirs["labels"])
+        assert np.array_equal(r.generation, theirs["generation"])
+        assert np.array_equal(r.violations, theirs["violations"])
+        best = np.asarray(r.history["best_so_far_fitness"]).view(np.uint32)
+        assert np.array_equal(best, theirs["best"])  # every generation's best, bit for bit
+        np.testing.assert_allclose(r.length, theirs["length"], rtol=0, atol=1e-12)
