@@ -20,24 +20,28 @@ from matplotlib.path import Path
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
-from hga_jax.host.output import figure_writer
+from hga_jax.host.output import figure_writer, fix_layout
 
 TOL = 1.0  # pixels
 
 
 def rendered(fig: Figure) -> Figure:
-    """``fig`` after it has been written as a PNG (its final layout)."""
-    figure_writer(fig)(io.BytesIO())
+    """``fig`` as it is when written as a PNG (its final layout: a constrained layout
+    is worked out and kept, without painting the pixels; any other figure is written)."""
+    if not fix_layout(fig):
+        figure_writer(fig)(io.BytesIO())
     return fig
 
 
 def _renderer(fig: Figure):
-    """An Agg renderer of the figure's size (a bare ``Figure`` has no canvas of its own)."""
+    """An Agg renderer of the figure's size (a bare ``Figure`` has no canvas of its own),
+    every artist placed as a draw places it (a draw without painting: what is measured is
+    where things are, not their pixels)."""
     if not hasattr(fig.canvas, "get_renderer"):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         FigureCanvasAgg(fig)
-        fig.canvas.draw()
+        fig.draw_without_rendering()
     return fig.canvas.get_renderer()
 
 

@@ -158,16 +158,25 @@ def figure_writer(fig: Any, dpi: int = 140, format: str = "png") -> Writer:
     its layout is worked out once, on the first write, and then kept (matplotlib would
     work it out again on every write, twice when cropping), so each format is drawn
     once."""
-    from matplotlib.layout_engine import ConstrainedLayoutEngine, PlaceHolderLayoutEngine
+    from matplotlib.layout_engine import PlaceHolderLayoutEngine
 
     def write(fh) -> None:
-        engine = fig.get_layout_engine()
-        if isinstance(engine, ConstrainedLayoutEngine):
-            fig.draw_without_rendering()
-            fig.set_layout_engine("none")  # the positions just found stay
-        elif not isinstance(engine, PlaceHolderLayoutEngine):
+        if not fix_layout(fig) and not isinstance(fig.get_layout_engine(),
+                                                  PlaceHolderLayoutEngine):
             fig.savefig(fh, dpi=dpi, format=format, bbox_inches="tight", pad_inches=0.05)
             return
         fig.savefig(fh, dpi=dpi, format=format)
 
     return write
+
+
+def fix_layout(fig: Any) -> bool:
+    """Work out a constrained layout once and keep it (the layout :func:`figure_writer`
+    writes); False, and nothing done, for a figure without one."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    if not isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine):
+        return False
+    fig.draw_without_rendering()
+    fig.set_layout_engine("none")  # the positions just found stay
+    return True
