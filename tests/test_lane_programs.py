@@ -21,7 +21,7 @@ from hga_jax.host.config import load_scenario
 sc = load_scenario(sys.argv[1])
 out = {}
 for preset in ("recommended", "paper"):
-    r = hg.run_many(sc, preset, seed=3, runs=40)
+    r = hg.run_many(sc, preset, seed=3, runs=40, exact=False)
     out[preset] = {"perm": r.perm.tolist(), "labels": r.labels.tolist(),
                    "generation": r.generation.tolist(), "violations": r.violations.tolist(),
                    "best": np.asarray(r.history["best_so_far_fitness"]).view(np.uint32).tolist(),
@@ -42,7 +42,7 @@ def test_the_lanes_programs_search_as_a_users_do():
     user = _runs({**os.environ, "XLA_FLAGS": " ".join(flags), "HGA_JAX_CACHE_DIR": "off"})
     sc = load_scenario(ROBOCUP)
     for preset in ("recommended", "paper"):
-        r = hg.run_many(sc, preset, seed=3, runs=40)
+        r = hg.run_many(sc, preset, seed=3, runs=40, exact=False)
         theirs = user[preset]
         assert np.array_equal(r.perm, theirs["perm"]) and np.array_equal(r.labels, theirs["labels"])
         assert np.array_equal(r.generation, theirs["generation"])
