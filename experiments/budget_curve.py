@@ -9,8 +9,8 @@ other generation keys than the preset's run (:mod:`hga_jax.search.run_keys`), so
 curve at 1x is another sample of the preset's hit rate, not its runs; nothing else in a
 generation depends on the run's length.
 
-Scenes are scenario files or ``kind:n:seed:index`` (a study family's generator, e.g. the
-held-out ``corridors:25:201:0``). Writes ``budget_curve.csv`` (one row per scene and budget
+Scenes are scenario files or ``kind:n:seed:index[:car]`` (a study family's generator, e.g.
+the held-out ``corridors:25:201:0`` or ``behind:9:171:0:dubins``). Writes ``budget_curve.csv`` (one row per scene and budget
 multiple) and ``budget_curve.png`` to ``--out``::
 
     python experiments/budget_curve.py corridors:25:201:0 obstructed:40:133:8 --times 8
@@ -33,21 +33,30 @@ from hga_jax.model.fitness import length_of_fitness
 from hga_jax.search.settings import preset as presets
 from hga_jax.study import stats
 from hga_jax.study.figure_page import save
+from hga_jax.study.config import KINDS
 from hga_jax.study.scenes import generate
 
 MULTIPLES = (0.25, 0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24, 32)
 
 
 def scene(spec: str):
-    """A scenario file, or ``kind:n:seed:index`` -> the scenario the study's generator makes."""
+    """A scenario file, or ``kind:n:seed:index[:car]`` -> the scenario a study family's
+    generator makes (``car``: the family's, as the parking-like kinds need)."""
     if spec.endswith(".toml"):
         return load_scenario(spec)
     try:
-        kind, n, seed, index = spec.split(":")
+        kind, n, seed, index, *car = spec.split(":")
+        if len(car) > 1:
+            raise ValueError("too many fields")
+        if kind not in KINDS:
+            raise ValueError(f"kind must be one of {', '.join(KINDS)}, got {kind!r}")
         name = f"{kind}_n{int(n):03d}_{int(index):03d}"
-        return scenario_from_dict(generate(kind, int(n), int(seed), int(index), name), name)
+        d = generate(kind, int(n), int(seed), int(index), name, car=car[0] if car else None)
+        if car:
+            d["robot"]["car"] = car[0]
+        return scenario_from_dict(d, name)
     except ValueError as e:
-        raise ConfigError(f"scene {spec!r}: expected kind:n:seed:index ({e})") from None
+        raise ConfigError(f"scene {spec!r}: expected kind:n:seed:index[:car] ({e})") from None
 
 
 def curve(sc, preset: str, times: float, runs: int, seed: int) -> list[dict]:
@@ -100,8 +109,8 @@ def figure(table: pd.DataFrame):
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("scenes", nargs="+", help="scenario files or kind:n:seed:index (a study "
-                   "family's scene, e.g. corridors:25:201:0)")
+    p.add_argument("scenes", nargs="+", help="scenario files or kind:n:seed:index[:car] (a "
+                   "study family's scene, e.g. corridors:25:201:0)")
     p.add_argument("--preset", default="recommended")
     p.add_argument("--times", type=float, default=8, help="generations, in multiples of the "
                    "preset's (default 8)")
