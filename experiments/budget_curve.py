@@ -59,12 +59,13 @@ def scene(spec: str):
         raise ConfigError(f"scene {spec!r}: expected kind:n:seed:index[:car] ({e})") from None
 
 
-def curve(sc, preset: str, times: float, runs: int, seed: int) -> list[dict]:
+def curve(sc, preset: str, times: float, runs: int, seed: int, progress: bool = False
+          ) -> list[dict]:
     """Rows of hit rate, feasible share and seconds per run at each budget multiple."""
     base = hg.settings_for(sc, presets(preset, "budget_curve")).for_obstacles(sc.n)
     long = dataclasses.replace(base, generations=int(round(times * base.generations)),
                                generations_per_obstacle=0)
-    res = hg.run_many(sc, long, seed=seed, runs=runs)
+    res = hg.run_many(sc, long, seed=seed, runs=runs, progress=progress)
     budget = base.population * (base.generations + 1)  # the preset's evaluations
     first_hit = np.where(res.hit, base.population * (res.generation + 1), np.inf)
     fit, length = res.history["best_so_far_fitness"], res.history["best_so_far_length"]
@@ -123,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         for spec in args.scenes:
             sc = scene(spec)
-            rows += curve(sc, args.preset, args.times, args.runs, args.seed)
+            rows += curve(sc, args.preset, args.times, args.runs, args.seed, progress=True)
             at = {r["multiple"]: r for r in rows if r["scene"] == sc.name}
             print(f"{spec} ({sc.name}): " + ", ".join(
                 f"{m}x {100 * r['hit_rate']:.0f} % ({r['ms_per_run']:.0f} ms)"
