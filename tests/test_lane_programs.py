@@ -1,7 +1,8 @@
 """The default lane builds its programs at XLA's backend optimisation level 0
 (conftest.py), for a shorter compile; a user's programs are built at XLA's default
 level. The searches must be the same bits: here the recommended and the paper preset,
-run in this process and in a fresh one at the default level."""
+run in this process and in a fresh one at the default level (the run counts of
+other tests' jobs on the bundled scene, so that this process's programs are theirs)."""
 import json
 import os
 import subprocess
@@ -13,6 +14,7 @@ import hga_jax as hg
 from hga_jax.host.config import load_scenario
 
 ROBOCUP = "configs/scenarios/robocup_paper.toml"
+JOBS = {"recommended": 200, "paper": 100}  # test_cli's run, test_ga's batch of 100
 RUNS = """
 import json, sys
 import numpy as np
@@ -20,8 +22,8 @@ import hga_jax as hg
 from hga_jax.host.config import load_scenario
 sc = load_scenario(sys.argv[1])
 out = {}
-for preset in ("recommended", "paper"):
-    r = hg.run_many(sc, preset, seed=3, runs=40, exact=False)
+for preset, runs in json.loads(sys.argv[2]).items():
+    r = hg.run_many(sc, preset, seed=3, runs=runs, exact=False)
     out[preset] = {"perm": r.perm.tolist(), "labels": r.labels.tolist(),
                    "generation": r.generation.tolist(), "violations": r.violations.tolist(),
                    "best": np.asarray(r.history["best_so_far_fitness"]).view(np.uint32).tolist(),
@@ -31,8 +33,8 @@ print(json.dumps(out))
 
 
 def _runs(env=None):
-    proc = subprocess.run([sys.executable, "-c", RUNS, ROBOCUP], capture_output=True, text=True,
-                          env=env, check=True)
+    proc = subprocess.run([sys.executable, "-c", RUNS, ROBOCUP, json.dumps(JOBS)],
+                          capture_output=True, text=True, env=env, check=True)
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
@@ -41,8 +43,8 @@ def test_the_lanes_programs_search_as_a_users_do():
              if not f.startswith("--xla_backend_optimization_level")]
     user = _runs({**os.environ, "XLA_FLAGS": " ".join(flags), "HGA_JAX_CACHE_DIR": "off"})
     sc = load_scenario(ROBOCUP)
-    for preset in ("recommended", "paper"):
-        r = hg.run_many(sc, preset, seed=3, runs=40, exact=False)
+    for preset, runs in JOBS.items():
+        r = hg.run_many(sc, preset, seed=3, runs=runs, exact=False)
         theirs = user[preset]
         assert np.array_equal(r.perm, theirs["perm"]) and np.array_equal(r.labels, theirs["labels"])
         assert np.array_equal(r.generation, theirs["generation"])
