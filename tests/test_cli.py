@@ -233,7 +233,8 @@ def test_plot_command_redraws_any_run_with_the_optimum(tiny, tmp_path):
 
 def test_summary_reads_well(tmp_path, capsys):
     scen = _write(tmp_path, GOOD, "good.toml")
-    assert main(["run", scen, "--runs", "1", "--generations", "2", "--population", "10",
+    # the job of test_preset_paper_reproduces_the_papers_settings_and_is_recorded: one program
+    assert main(["run", scen, "--runs", "1", "--generations", "2",
                  "--quiet", "--out", str(tmp_path / "o")]) == 0
     text = capsys.readouterr().out
     assert "None" not in text and "1 runs" not in text and "1 run of seed 0" in text
@@ -431,19 +432,19 @@ def test_preset_paper_reproduces_the_papers_settings_and_is_recorded(tmp_path):
     docs = {}
     for preset in ("paper", "recommended"):
         out = tmp_path / preset
-        assert main(["run", scen, "--runs", "2", "--generations", "3", "--quiet",
+        assert main(["run", scen, "--runs", "1", "--generations", "2", "--quiet",
                      "--preset", preset, "--out", str(out)]) == 0
         docs[preset] = json.loads((out / "result.json").read_text())
     assert docs["paper"]["preset"] == "paper"
-    assert docs["paper"]["settings"] == {**dataclasses.asdict(PAPER), "generations": 3,
+    assert docs["paper"]["settings"] == {**dataclasses.asdict(PAPER), "generations": 2,
                                        "car": "dubins"}
     assert docs["recommended"]["preset"] == "recommended"
     # result.json holds the settings the runs used (the budget rule resolved) and the rule
-    assert docs["recommended"]["settings"] == {**dataclasses.asdict(RECOMMENDED), "generations": 3,
+    assert docs["recommended"]["settings"] == {**dataclasses.asdict(RECOMMENDED), "generations": 2,
                                                "generations_per_obstacle": 0, "car": "dubins"}
     assert docs["recommended"]["budget"] == {
-        "rule": "generations = 3 + 24 * max(0, n - 9)", "obstacles": 1, "generations": 3,
-        "evaluations_per_run": 50 * 4}
+        "rule": "generations = 2 + 24 * max(0, n - 9)", "obstacles": 1, "generations": 2,
+        "evaluations_per_run": 50 * 3}
     assert "budget" not in docs["paper"]
     # the paper's HGA: roulette, CX, inversion, two-point, redraw, 0.4/0.02, no elites
     p = docs["paper"]["settings"]
