@@ -65,8 +65,8 @@ def test_quick_checks_the_whole_grid_before_anything_runs(tmp_path):
 
 
 def test_study_output_folder_rules(tmp_path, capsys):
-    # the full grid's second configuration runs the same program (one compile)
-    path = _study_file(tmp_path, second='label = "paper, 1 run"\nruns = 1')
+    # the full grid's second configuration runs the same program (a rate is data: one compile)
+    path = _study_file(tmp_path, second='label = "paper, pc 0.5"\npc_upper = 0.5')
     run_folder = tmp_path / "a_run"
     assert main(["exact", PAPER_SCENE, "--out", str(run_folder), "--quiet"]) == 0
     capsys.readouterr()
