@@ -119,6 +119,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=11)
     p.add_argument("--out", default=os.path.join("results", "budget_curve"))
     args = p.parse_args(argv)
+    if not args.times >= 1 or args.runs < 1:  # NaN too
+        p.error(f"--times must be >= 1 and --runs >= 1, got {args.times} and {args.runs}")
     hg.use_cpu_cores()
     rows = []
     try:

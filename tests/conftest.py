@@ -5,6 +5,7 @@ import os
 import shutil
 import tempfile
 
+import _xla
 import pytest
 from hypothesis import settings
 
@@ -23,12 +24,11 @@ os.environ["HGA_JAX_CACHE_DIR"] = os.environ["HGA_JAX_TEST_CACHE"]
 # The default lane (not the slow studies or the benchmarks, which search far more than
 # they compile) builds its programs with XLA's backend optimisation level 0: LLVM then
 # skips its optimisation passes, a third of a compile, and the lane's programs search
-# more slowly. The searches are the same bits (XLA only stops fusing a multiply and an
-# add into one FMA instruction, which no float32 step of a run depends on; a float64
+# more slowly. The searches are the same bits, as measured (XLA stops fusing a multiply
+# and an add into one FMA instruction; no float32 step of a run changed, a float64
 # re-evaluated length may differ in its last bit): test_lane_programs.py checks it
 # against the level a user's program is built at. HGA_JAX_TEST_XLA_LEVEL=default (or
 # XLA_FLAGS naming a level) keeps the default.
-LANE_LEVEL = "--xla_backend_optimization_level=0"
 
 
 def _default_lane(config) -> bool:
@@ -38,8 +38,8 @@ def _default_lane(config) -> bool:
 def pytest_configure(config):
     flags = os.environ.get("XLA_FLAGS", "")
     if (_default_lane(config) and os.environ.get("HGA_JAX_TEST_XLA_LEVEL") != "default"
-            and "xla_backend_optimization_level" not in flags):
-        os.environ["XLA_FLAGS"] = f"{flags} {LANE_LEVEL}".strip()  # before JAX starts its backend
+            and _xla.LEVEL not in flags):
+        os.environ["XLA_FLAGS"] = f"{flags} {_xla.LANE_LEVEL}".strip()  # before JAX starts
     from hga_jax.compiled import enable_compilation_cache
 
     enable_compilation_cache()  # as the command line does

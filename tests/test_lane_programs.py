@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 
+import _xla
 import numpy as np
 
 import hga_jax as hg
@@ -39,9 +40,7 @@ def _runs(env=None):
 
 
 def test_the_lanes_programs_search_as_a_users_do():
-    flags = [f for f in os.environ.get("XLA_FLAGS", "").split()
-             if not f.startswith("--xla_backend_optimization_level")]
-    user = _runs({**os.environ, "XLA_FLAGS": " ".join(flags), "HGA_JAX_CACHE_DIR": "off"})
+    user = _runs({**os.environ, "XLA_FLAGS": _xla.without_level(), "HGA_JAX_CACHE_DIR": "off"})
     sc = load_scenario(ROBOCUP)
     for preset, runs in JOBS.items():
         r = hg.run_many(sc, preset, seed=3, runs=runs, exact=False)

@@ -108,39 +108,42 @@ class Scenario:
         per-leg blockers that the path operators read (:mod:`hga_jax.model.legs`).
         Free-turn chromosomes take :func:`hga_jax.model.free_legs.search_arrays`."""
         sa = self.arrays(dtype)
+        name = np.dtype(dtype).name
         if with_legs:
-            if "legs" not in self._turns:
+            def built_legs():
                 s64 = self.arrays(np.float64)
                 built = legs.build(s64.tangents, s64.centres, s64.model_radii, self.delta)
-                self._turns["legs"] = legs.with_end_arcs(built, s64.tangents, s64.start,
-                                                         s64.goal, s64.centres,
-                                                         s64.model_radii, s64.bounds)
-            typed = ("legs", np.dtype(dtype).name)  # lengths in the search's dtype
-            if typed not in self._turns:
-                lg = self._turns["legs"]
-                self._turns[typed] = lg._replace(length=np.asarray(lg.length, dtype),
-                                                 penalty=np.asarray(lg.penalty, dtype))
-            sa = sa._replace(legs=self._turns[typed])
-        if collision not in self._turns:
-            table = None
-            if turn_tables.fits(self.n):
-                s64 = self.arrays(np.float64)
-                built = turn_tables.build(s64.tangents, s64.start, s64.goal, s64.centres,
-                                    s64.model_radii, s64.bounds, collision)
-                table = built.entries if built.usable else None
-            self._turns[collision] = table
-        table = self._turns[collision]
+                return legs.with_end_arcs(built, s64.tangents, s64.start, s64.goal,
+                                          s64.centres, s64.model_radii, s64.bounds)
+
+            def typed_legs():  # lengths in the search's dtype
+                lg = self.cached("legs", built_legs)
+                return lg._replace(length=np.asarray(lg.length, dtype),
+                                   penalty=np.asarray(lg.penalty, dtype))
+
+            sa = sa._replace(legs=self.cached(("legs", name), typed_legs))
+
+        def turn_table():
+            if not turn_tables.fits(self.n):
+                return None
+            s64 = self.arrays(np.float64)
+            built = turn_tables.build(s64.tangents, s64.start, s64.goal, s64.centres,
+                                      s64.model_radii, s64.bounds, collision)
+            return built.entries if built.usable else None
+
+        table = self.cached(collision, turn_table)
         if table is None:
             return sa
         if sa.legs is not None:  # with the arcs' own violations, for the guided move
-            key = ("legs", np.dtype(dtype).name, collision)
-            if key not in self._turns:
-                if ("arcs", collision) not in self._turns:  # once per collision rule
-                    tb = self.arrays(np.float64).tangents
-                    self._turns["arcs", collision] = legs.arcs_from_turns(table, (
-                        tb.violations_full if collision == "full" else tb.violations_paper))
-                self._turns[key] = sa.legs._replace(arcs=self._turns["arcs", collision])
-            sa = sa._replace(legs=self._turns[key])
+            def arcs():  # once per collision rule
+                tb = self.arrays(np.float64).tangents
+                return legs.arcs_from_turns(table, tb.violations_full if collision == "full"
+                                            else tb.violations_paper)
+
+            def with_arcs():
+                return sa.legs._replace(arcs=self.cached(("arcs", collision), arcs))
+
+            sa = sa._replace(legs=self.cached(("legs", name, collision), with_arcs))
         field = "turns_full" if collision == "full" else "turns_paper"
         return sa._replace(**{field: np.asarray(table, sa.centres.dtype)})
 

@@ -427,10 +427,10 @@ RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
 new legs pass through fewer obstacles), one guided path move per child (the
-best of ten candidate moves by their legs and the moved obstacle's arc), tournament selection, 2 elites, restarts
-of runs stalled for 12 generations, ten times the paper's penalty per violation
-during the search, two children per generation that move the best path's ends (the
-Reeds–Shepp car only), one that is the best path with straight legs (free turns and
+best of ten candidate moves by their legs and the moved obstacle's arc), tournament
+selection, 2 elites, restarts of runs stalled for 12 generations, ten times the
+paper's penalty per violation during the search, two children per generation that
+move the best path's ends (the Reeds–Shepp car only), one that is the best path with straight legs (free turns and
 the Reeds–Shepp car) and one more moved as the tight rope would move it, and a
 budget that grows with the scene: the paper's 50 x 51 chromosomes up to 9 obstacles,
 24 more generations per obstacle beyond (15 obstacles: 50 x 195 = 9,750; 25: 50 x 435
