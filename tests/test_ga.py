@@ -47,7 +47,7 @@ def test_run_k_alone_equals_run_k_in_a_batch(robocup, batch100, k):
 def test_chunking_and_blocks_do_not_change_runs(robocup, batch100, monkeypatch):
     from hga_jax.running import budget
 
-    # About 3 generations per block: the nearest divisor of 50 is taken.
+    # About 3 generations per block: 51 generations in 17 blocks.
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 7 * 50 * 3)
     assert budget.plan(9, batch100.settings, 30, 7).block == 3
     part = run_many(robocup, seed=3, runs=30, first_run=10, chunk=7, exact=False)
@@ -60,10 +60,17 @@ def test_blocks_equal_one_scan_and_run_batch_takes_a_list(robocup, monkeypatch):
     from hga_jax.running import budget
     from hga_jax.search import ga
 
-    s = GASettings(generations=12)  # 13 generations, prime: no divisor near 4, a ragged last block
+    from hga_jax import compiled
+
+    s = GASettings(generations=12)  # 13 generations in blocks of 4: a ragged last block
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 4 * 50 * 4)
     assert budget.plan(9, s, 10, 4).block == 4  # generations 0-3, 4-7, 8-11, 12
+    # The generation count is data: a job of 15 generations compiles the program that
+    # then runs these 13 (the comparison with one scan below checks its bits).
+    run_many(robocup, GASettings(generations=14), seed=5, runs=4, chunk=4, exact=False)
+    before = compiled.tally()
     res = run_many(robocup, s, seed=5, runs=10, chunk=4, exact=False)
+    assert compiled.tally_since(before)["ga-block"] == {"compiled": 0, "loaded": 0, "reused": 1}
     sa = robocup.search_arrays()
     # a plain list; the scenario an argument, as the runner passes it (not folded in)
     best, history = jax.jit(lambda a: ga.run_batch(5, [0, 5, 9], a, s))(sa)

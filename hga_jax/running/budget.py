@@ -115,6 +115,16 @@ def _setting(source: str, key: str, value: int) -> str:
     return f"--{key} {value:,}" if source == "command line" else f"{key}={value}"
 
 
+def block_length(n: int, population: int, chunk: int, generations: int) -> int:
+    """Generations per compiled call: about ``BLOCK_WORK`` evaluations x obstacles, and no
+    more than the power of two at or above the job's ``generations + 1`` (generation 0
+    counts). The length does not follow the generation count further, so jobs that differ
+    only in it run one program (a budget sweep, a rerun with more generations): the steps of
+    a last block that run past generation G are skipped."""
+    work = math.ceil(BLOCK_WORK / max(n, 4) / (chunk * population))
+    return max(1, min(work, 1 << max(0, generations).bit_length()))
+
+
 def plan(n: int, settings: GASettings, runs: int, chunk: int | None, devices: int = 1,
          available: int | None = None, source: str = "command line") -> Plan:
     """Cut a job of ``runs`` runs, or refuse it (one line naming what would fit).
@@ -153,12 +163,6 @@ def plan(n: int, settings: GASettings, runs: int, chunk: int | None, devices: in
     size = max(devices, math.ceil(size / devices) * devices)
     if size > fit_runs:
         size -= devices
-    total = g + 1  # generation 0 is a generation of the block program too
-    block = max(1, min(total, math.ceil(BLOCK_WORK / max(n, 4) / (size * p))))
-    # A block that divides the generations needs no masked steps: take the nearest
-    # divisor within a factor of two, if there is one.
-    near = [d for d in range(max(1, block // 2), min(total, 2 * block) + 1) if total % d == 0]
-    if near:
-        block = min(near, key=lambda d: (abs(d - block), d))
+    block = block_length(n, p, size, g)
     return Plan(chunk=size, batches=math.ceil(runs / size), block=block,
                 device_bytes=device_bytes(n, settings, size, block), host_bytes=host)

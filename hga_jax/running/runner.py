@@ -25,8 +25,8 @@ from hga_jax import compiled, validation
 from hga_jax.running import budget
 from hga_jax.errors import Interrupted
 from hga_jax.model.exact import solve
-from hga_jax.search import ga, registry
-from hga_jax.search.ga import Record, host_generation_keys
+from hga_jax.search import ga, registry, run_keys
+from hga_jax.search.ga import Record
 from hga_jax.running.progress import bar as bar_of, tick
 from hga_jax.words import count
 from hga_jax.model.path import decode64, evaluate_path
@@ -221,21 +221,24 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
             t0 = time.perf_counter()
             shapes = (size, cut.block, np.dtype(dtype).name, sharding is None,
                       tuple(np.shape(leaf) for leaf in jax.tree.leaves(sa)))
-            keys0 = _put(host_generation_keys(seed, ks_all[:size], settings), sharding)
+            data = run_keys.host_generation_key_data(seed, ks_all[:size], settings)
+            keys0 = _put(_block_keys(data, 0, cut.block), sharding)
             blank = _put_tree(_blank_batch(size, sa, settings), sharding)
+            last = np.int32(gens)
             block = compiled.program(("ga-block", settings.structure()) + shapes, lambda: jax.jit(
                 _per_device(functools.partial(_block, steps=cut.block), sharding)
-            ).lower(keys0, blank, np.int32(0), sa), disk=registry.builtin_only(settings))
+            ).lower(keys0, blank, np.int32(0), last, sa), disk=registry.builtin_only(settings))
             compile_s, search_s = time.perf_counter() - t0, 0.0
             compiling = False
             for b, lo in enumerate(range(0, len(ks_all), size)):
                 done = 0
                 t0 = time.perf_counter()
                 real = min(size, runs - lo)
-                keys = _put(host_generation_keys(seed, ks_all[lo:lo + size], settings), sharding)
+                data = run_keys.host_generation_key_data(seed, ks_all[lo:lo + size], settings)
                 state = blank
                 for first in range(0, gens + 1, cut.block):
-                    state, recs = block(keys, state, np.int32(first), sa)
+                    keys = _put(_block_keys(data, first, cut.block), sharding)
+                    state, recs = block(keys, state, np.int32(first), last, sa)
                     steps = min(cut.block, gens + 1 - first)
                     _store(hist, recs, first, steps, lo, real)
                     done += steps
@@ -289,19 +292,27 @@ def _gathered(found: _Found, runs: int) -> _Found:
                   finish_s=found.finish_s + time.perf_counter() - t0)
 
 
-def _block(keys, core, first, sa, steps: int):
+def _block_keys(data: np.ndarray, first: int, steps: int):
+    """The keys of generations ``first .. first + steps - 1`` of a batch, ``(R, steps)``, from
+    the batch's key data ``(R, G + 1, 2)``; past generation G the last key stands in (its
+    step is skipped)."""
+    cols = np.minimum(np.arange(first, first + steps), data.shape[1] - 1)
+    return run_keys.as_keys(data[:, cols])
+
+
+def _block(keys, core, first, last, sa, steps: int):
     """Generations ``first .. first + steps - 1`` of a batch of runs, one compiled
     program for every block: a scan over the generations whose body is
     :func:`hga_jax.search.ga.step` vmapped over the runs (axis ``ga.RUNS``), each run
-    on its generation keys ``keys`` (R, G + 1) (as :func:`hga_jax.search.ga.steps`
+    on its generation keys ``keys`` (R, steps) (as :func:`hga_jax.search.ga.steps`
     for one run; the same bits. Traced under the vmap at once, the generation is
     traced once: a vmap around the scan traced it, then batched the trace again,
     0.5 s of a 3.1 s compile). ``core`` is the batch's state without its problem
     (``sa`` is passed apart, not carried) and with one generation count for all its
     runs (not batched, so that "some run restarts" in generation 0 needs no
-    collective between devices); the steps of a last block that runs past
-    generation G are skipped (a branch: the state as it was)."""
-    total = core.settings.generations
+    collective between devices). ``last`` is the run's last generation G, data (not
+    the program's structure, so jobs that differ only in G share the program); the
+    steps past it are skipped (a branch: the state as it was)."""
     idx = first + jnp.arange(steps, dtype=jnp.int32)
     axes = _run_axes(core)
 
@@ -310,15 +321,13 @@ def _block(keys, core, first, sa, steps: int):
 
     batch = jax.vmap(one, in_axes=(0, axes), out_axes=axes, axis_name=ga.RUNS)
     records = jax.vmap(ga.record, in_axes=(axes,))
-    masked = (total + 1) % steps != 0
-
     def body(st, xs):
         k, on = xs
-        st = jax.lax.cond(on, batch, lambda _, c: c, k, st) if masked else batch(k, st)
+        st = jax.lax.cond(on, batch, lambda _, c: c, k, st) if steps > 1 else batch(k, st)
         return st, records(st)
 
-    ks = jnp.moveaxis(keys[:, jnp.minimum(idx, total)], 1, 0)  # (steps, R, ...)
-    core, recs = jax.lax.scan(body, core, (ks, idx <= total))
+    ks = jnp.moveaxis(keys, 1, 0)  # (steps, R, ...)
+    core, recs = jax.lax.scan(body, core, (ks, idx <= last))
     return core, jax.tree.map(lambda r: jnp.moveaxis(r, 0, 1), recs)
 
 
@@ -340,11 +349,12 @@ def _per_device(block, sharding):
         return block
     runs, whole = jax.sharding.PartitionSpec(_DEVICES), jax.sharding.PartitionSpec()
 
-    def program(keys, core, first, sa):
+    def program(keys, core, first, last, sa):
         specs = jax.tree.map(lambda a: whole if a is None else runs, _run_axes(core),
                              is_leaf=lambda a: a is None)
-        return jax.shard_map(block, mesh=sharding.mesh, in_specs=(runs, specs, whole, whole),
-                             out_specs=(specs, runs), check_vma=False)(keys, core, first, sa)
+        return jax.shard_map(block, mesh=sharding.mesh,
+                             in_specs=(runs, specs, whole, whole, whole),
+                             out_specs=(specs, runs), check_vma=False)(keys, core, first, last, sa)
 
     return program
 

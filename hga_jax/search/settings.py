@@ -214,9 +214,10 @@ class GASettings:
 
     def structure(self) -> "GASettings":
         """These settings without their :data:`RATES` (probabilities 0, weight 1;
-        ``seeding`` and ``restart_after`` 1 where on, else 0) and with the defaults of
-        the :data:`MODEL_FIELDS` that their car model does not read: what a compiled
-        program depends on, and its identity."""
+        ``seeding`` and ``restart_after`` 1 where on, else 0), without their generation
+        count (0: a block of generations takes its last generation as data) and with the
+        defaults of the :data:`MODEL_FIELDS` that their car model does not read: what a
+        compiled program depends on, and its identity."""
         genes = self.model.genes
         used = {name for g in genes for name in (g.crossover, g.mutation, g.ends) if name}
         if any(g.ends for g in genes):
@@ -226,7 +227,7 @@ class GASettings:
         idle = {f.name: f.default for f in dataclasses.fields(self)
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
-            self, **{k: 0.0 for k in SHARES}, penalty_weight=1.0,
+            self, **{k: 0.0 for k in SHARES}, penalty_weight=1.0, generations=0,
             seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0), **idle)
 
     def with_rates(self, rates: Rates) -> "GASettings":
