@@ -25,7 +25,7 @@ from hga_jax import compiled, validation
 from hga_jax.running import budget
 from hga_jax.errors import Interrupted
 from hga_jax.model.exact import solve
-from hga_jax.search import ga, registry, run_keys
+from hga_jax.search import ga, registry, rng, run_keys
 from hga_jax.search.ga import Record
 from hga_jax.running.progress import bar as bar_of, tick
 from hga_jax.words import count
@@ -297,7 +297,7 @@ def _block_keys(data: np.ndarray, first: int, steps: int):
     the batch's key data ``(R, G + 1, 2)``; past generation G the last key stands in (its
     step is skipped)."""
     cols = np.minimum(np.arange(first, first + steps), data.shape[1] - 1)
-    return run_keys.as_keys(data[:, cols])
+    return rng.wrap(data[:, cols])
 
 
 def _block(keys, core, first, last, sa, steps: int):
@@ -321,6 +321,7 @@ def _block(keys, core, first, last, sa, steps: int):
 
     batch = jax.vmap(one, in_axes=(0, axes), out_axes=axes, axis_name=ga.RUNS)
     records = jax.vmap(ga.record, in_axes=(axes,))
+
     def body(st, xs):
         k, on = xs
         st = jax.lax.cond(on, batch, lambda _, c: c, k, st) if steps > 1 else batch(k, st)

@@ -103,14 +103,19 @@ def unit(words, dtype=jnp.float32):
     return (words >> np.uint32(8)).astype(dtype) * jnp.asarray(2.0**-24, dtype)
 
 
+def wrap(data):
+    """Key data (uint32, a last axis of 2; numpy or traced) as keys of this implementation."""
+    return jax.random.wrap_key_data(data, impl=IMPL)
+
+
 def key(seed):
     """A key of this implementation for integer ``seed`` (same stream as ``jax.random.key``)."""
-    return jax.random.wrap_key_data(_seed(seed), impl=IMPL)
+    return wrap(_seed(seed))
 
 
 def from_threefry(k):
     """The same key (a typed threefry2x32 key) as a key of this implementation."""
-    return jax.random.wrap_key_data(jax.random.key_data(k), impl=IMPL)
+    return wrap(jax.random.key_data(k))
 
 
 # --- The same keys on the host (numpy), for programs that take their keys as input ---

@@ -39,23 +39,18 @@ def generation_keys(key, settings: GASettings):
 def host_generation_keys(seed: int, ks, settings: GASettings):
     """:func:`generation_keys` of runs ``ks`` of ``seed``, made on the host (numpy):
     keys of :mod:`hga_jax.search.rng`, shaped ``(len(ks), G + 1)``."""
-    return as_keys(host_generation_key_data(seed, ks, settings))
+    return rng.wrap(host_generation_key_data(seed, ks, settings))
 
 
 def host_generation_key_data(seed: int, ks, settings: GASettings) -> np.ndarray:
     """The data of :func:`host_generation_keys`: uint32, ``(len(ks), G + 1, 2)``. A compiled
-    block of generations takes its columns as input (:func:`as_keys`) instead of hashing
-    them out itself."""
+    block of generations takes its columns as input (as keys: :func:`hga_jax.search.rng.wrap`)
+    instead of hashing them out itself."""
     ks = np.asarray(ks, np.int64)
     run = rng.host_fold_in(np.broadcast_to(rng.host_key(seed), ks.shape + (2,)), ks)
     k0kg = rng.host_split(run, 2)
     later = rng.host_split(k0kg[..., 1, :], settings.generations)
     return np.concatenate([k0kg[..., :1, :], later], axis=-2)
-
-
-def as_keys(data: np.ndarray):
-    """Key data (uint32, a last axis of 2) as keys of :mod:`hga_jax.search.rng`."""
-    return jax.random.wrap_key_data(data, impl=rng.IMPL)
 
 
 def run_indices(ks):

@@ -141,7 +141,7 @@ unit = rng.unit  # floats uniform on k / 2**24 from words (the one rule, in rng)
 
 def _keys(rows):
     """Keys (of :mod:`hga_jax.search.rng`) from two rows of words: ``(count,)`` keys."""
-    return jax.random.wrap_key_data(jnp.stack([rows[0], rows[1]], axis=-1), impl=rng.IMPL)
+    return rng.wrap(jnp.stack([rows[0], rows[1]], axis=-1))
 
 
 def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays | None = None):
