@@ -91,6 +91,10 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
     "guided_arcs": (float, None, "share of the penalty the guided move's score adds for the "
                     "moved obstacle's arc where it has a violation of its own (tight rope)"),
     "restart_after": (int, None, "restart a run stalled this many generations (0: never)"),
+    "islands": (int, None, "islands the population is split into, each selecting and "
+                "keeping elites among its own (1: one population)"),
+    "migrate_every": (int, None, "generations between the islands' migrants, the best of "
+                      "each to the next (0: never)"),
     "precision": (str, PRECISIONS, "float precision of the search (lengths are reported in "
                   "float64 always)"),
     "turns": (str, "models", "the car model the GA searches and the optimum it is "

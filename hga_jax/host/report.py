@@ -40,7 +40,8 @@ def operators(st: GASettings) -> str:
     return (f"{sel}; order: {st.perm_crossover} crossover (pc {st.pc_upper:g}), "
             f"{st.perm_mutation} mutation (pm {st.pm_upper:g}); labels{binding}: "
             f"{st.label_crossover} crossover (pc {st.pc_lower:g}), {st.label_mutation} "
-            f"mutation (pm {st.pm_lower:g} per gene); {count(st.elites, 'elite')}" + _extras(st))
+            f"mutation (pm {st.pm_lower:g} per gene); {count(st.elites, 'elite')}"
+            + (" per island" if st.island_count > 1 and st.elites else "") + _extras(st))
 
 
 def _extras(st: GASettings) -> str:
@@ -78,6 +79,11 @@ def _extras(st: GASettings) -> str:
         out.append(f"{pct(st.wrap_clearer)} of wraps round the side with fewer blockers")
     if st.restart_after:
         out.append(f"restart after {count(st.restart_after, 'stalled generation')}")
+    if st.island_count > 1:
+        ring = (f", the best of each to the next every "
+                f"{count(st.migrate_every, 'generation')}" if st.migrate_every else "")
+        k = st.island_count
+        out.append(f"{k} islands of {st.population // k}{ring}")
     if st.penalty_weight != 1.0:
         out.append(f"penalty {st.penalty_weight:g} x 2 pi R per violation in the search")
     return "".join("; " + o for o in out)

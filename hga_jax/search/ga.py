@@ -30,6 +30,7 @@ from hga_jax.model.fitness import evaluate
 from hga_jax.model.scenario import ScenarioArrays
 
 from hga_jax.jax_compat import RUNS, any_run, fixed_stream
+from . import islands
 from .run_keys import generation_keys, host_generation_keys, run_indices, run_key
 from .settings import GASettings
 from .state import Best, GAState, Population, Record, blank, record
@@ -58,11 +59,19 @@ def _update_best(best: Best, pop: Population, generation, settings: GASettings) 
 
 
 def _kept(pop: Population, old: Population, restart, settings: GASettings) -> Population:
-    """Elitism, except in generation 0 and restarts."""
+    """Elitism (island by island), except in generation 0 and restarts."""
     if not settings.elites:
         return pop
-    kept = _elitist(pop, old, settings)
+    kept = islands.per_island(lambda p, o: _elitist(p, o, settings), settings.island_count, pop, old)
     return jax.tree.map(lambda a, b: jnp.where(restart, b, a), kept, pop)
+
+
+def _migrated(pop: Population, generation, restart, settings: GASettings) -> Population:
+    """The island ring's migrants (:mod:`hga_jax.search.islands`) where they are due."""
+    if not settings.migrates:
+        return pop
+    due = islands.due(generation, settings.migrate_every, restart)
+    return islands.migrate(pop, pop.fitness, due, settings.island_count)
 
 
 def _elitist(pop: Population, old: Population, settings: GASettings) -> Population:
@@ -109,7 +118,8 @@ def init(key, problem: ScenarioArrays, settings: GASettings) -> GAState:
 def step(key, state: GAState) -> GAState:
     """The next generation of a run from its key: select and vary the population
     (both modules, then the path move), give the runs that restart fresh chromosomes
-    instead, evaluate, keep the elites (not in a restart), track the best. One draw
+    instead, evaluate, keep the elites (not in a restart), send the islands' migrants
+    where due, track the best. One draw
     of words serves the whole generation (see the layout above)."""
     settings, sa, g = state.settings.with_rates(state.rates), state.problem, state.generation
     words = _draw(key, sa.centres.shape[0], settings)
@@ -120,6 +130,7 @@ def step(key, state: GAState) -> GAState:
         lambda w: (pop.perm, pop.labels, pop.legs), words)
     perm, labels, legs = _restarted(words, chrom, restart, sa, settings)
     pop = _kept(_evaluated(sa, perm, labels, legs, settings), state.pop, restart, settings)
+    pop = _migrated(pop, g, restart, settings)
     best = _update_best(state.best, pop, g, settings)
     return GAState(pop, best, g + 1, sa, state.settings, state.rates)
 

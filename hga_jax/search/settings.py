@@ -44,6 +44,13 @@ where a turn table is built; 0: legs only.
 did not improve in the last R generations starts a new population, drawn like
 generation 0, without elites (0: never restart). The best-so-far is kept.
 
+``islands = K``: the population is K islands of ``population / K`` consecutive
+individuals (fewer where K does not split it into equal islands of more than ``elites``:
+:attr:`GASettings.island_count`) that select parents and keep ``elites`` each among
+themselves; every
+``migrate_every`` generations the best of each island replaces the worst of the next
+(:mod:`hga_jax.search.islands`; 0: never). ``islands = 1`` (the paper): one population.
+
 ``generations_per_obstacle = k``: a run on ``n`` obstacles makes
 ``generations + k * max(0, n - 9)`` generations (9: the paper's scene), so the
 budget grows with the scene; :meth:`GASettings.for_obstacles` resolves it (the
@@ -91,10 +98,10 @@ from hga_jax.model.collision import COLLISIONS
 LABEL_BINDINGS = ("position", "obstacle")
 RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
          "pm_ends", "seeding_via", "wrap_clearer", "guided_arcs", "penalty_weight", "seeding",
-         "restart_after")
+         "restart_after", "migrate_every")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
-configurations that differ only in these run the same program. Of ``seeding`` and
-``restart_after`` only whether they are on (> 0) is structure."""
+configurations that differ only in these run the same program. Of ``seeding``,
+``restart_after`` and ``migrate_every`` only whether they are on (> 0) is structure."""
 SHARES = RATES[:11]
 """The :data:`RATES` that are probabilities or shares (float32 in the program)."""
 
@@ -103,7 +110,8 @@ class Rates(NamedTuple):
     """The :data:`RATES` of a configuration as arrays (scalars): probabilities float32
     (compared with the float32 uniforms of :func:`hga_jax.search.rng.unit`), the penalty
     weight in the search's float type, ``seeded`` the number of seeded individuals of a
-    fresh population (``round(seeding * population)``) and ``restart_after`` int32."""
+    fresh population (``round(seeding * population)``), ``restart_after`` and
+    ``migrate_every`` int32."""
 
     pc_upper: Any
     pm_upper: Any
@@ -119,6 +127,7 @@ class Rates(NamedTuple):
     penalty_weight: Any
     seeded: Any
     restart_after: Any
+    migrate_every: Any
 
 
 MODEL_FIELDS = ("leg_crossover", "leg_mutation", "end_mutation", "ends_of_best",
@@ -158,6 +167,8 @@ class GASettings:
     wrap_clearer: float = 0.0
     guided_arcs: float = 0.0
     restart_after: int = 0
+    islands: int = 1
+    migrate_every: int = 0
     generations_per_obstacle: int = 0
     turns: str = car_model.DEFAULT
     leg_crossover: str = "two_point"
@@ -210,7 +221,8 @@ class GASettings:
         return Rates(*(np.asarray(getattr(self, k), f4) for k in SHARES),
                      np.asarray(self.penalty_weight, dtype),
                      np.asarray(int(round(self.seeding * self.population)), np.int32),
-                     np.asarray(self.restart_after, np.int32))
+                     np.asarray(self.restart_after, np.int32),
+                     np.asarray(self.migrate_every, np.int32))
 
     def structure(self) -> "GASettings":
         """These settings without their :data:`RATES` (probabilities 0, weight 1;
@@ -228,7 +240,8 @@ class GASettings:
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
             self, **{k: 0.0 for k in SHARES}, penalty_weight=1.0, generations=0,
-            seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0), **idle)
+            seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0),
+            migrate_every=int(self.migrate_every > 0), **idle)
 
     def with_rates(self, rates: Rates) -> "GASettings":
         """These settings (a structure) with the :data:`RATES` of ``rates`` (traced
@@ -259,6 +272,24 @@ class GASettings:
     def restarts(self) -> bool:
         """Whether stalled runs restart (``restart_after > 0``; structure)."""
         return self.static().restart_after > 0
+
+    @property
+    def island_count(self) -> int:
+        """The islands the population is split into (structure): the largest count up to
+        ``islands`` that splits it into equal islands of two or more individuals, more
+        than ``elites`` each (``islands = 5``: population 50 five islands of ten, 12 four
+        of three, 8 with 2 elites two of four, 7 one population)."""
+        p = self.population
+        for k in range(min(self.islands, p // 2), 1, -1):
+            if p % k == 0 and p // k > max(self.elites, 1):
+                return k
+        return 1
+
+    @property
+    def migrates(self) -> bool:
+        """Whether islands send migrants (more than one island and ``migrate_every >
+        0``; structure)."""
+        return self.island_count > 1 and self.static().migrate_every > 0
 
     @property
     def counts_wrap_sides(self) -> bool:
@@ -293,7 +324,7 @@ class GASettings:
             return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
         for key in ("population", "generations", "tournament_size", "elites", "restart_after",
-                    "generations_per_obstacle", "ends_of_best", "straight_of_best",
+                    "islands", "migrate_every", "generations_per_obstacle", "ends_of_best", "straight_of_best",
                     "tight_of_best"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
@@ -304,6 +335,8 @@ class GASettings:
             raise bad("generations", f"must be >= 0, got {self.generations}")
         if not 1 <= self.tournament_size <= self.population:
             raise bad("tournament_size", f"must be in 1..{pop()}, got {self.tournament_size}")
+        if self.islands < 1:
+            raise bad("islands", f"must be >= 1 (1: one population), got {self.islands}")
         if not 0 <= self.elites < self.population:
             raise bad("elites", f"must be in 0..{pop()} - 1, got {self.elites}")
         if not 0 <= self.ends_of_best < self.population:
@@ -321,6 +354,8 @@ class GASettings:
                       f"got {self.generations_per_obstacle}")
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
+        if self.migrate_every < 0:
+            raise bad("migrate_every", f"must be >= 0 (0: never), got {self.migrate_every}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
                     "seeding_via", "wrap_clearer", "guided_arcs", "pc_legs", "pm_legs",
                     "pm_ends"):

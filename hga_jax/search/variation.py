@@ -18,7 +18,7 @@ from jax import Array
 
 from hga_jax.model.scenario import ScenarioArrays
 
-from . import label_ops, leg_ops, path_ops, permutation, registry, rng
+from . import islands, label_ops, leg_ops, path_ops, permutation, registry, rng
 from .settings import GASettings
 from .state import Population
 
@@ -211,10 +211,13 @@ def _vary(words, old: Population, settings: GASettings, sa: ScenarioArrays | Non
         return words[start:start + count]
 
     sel = registry.entry("selection", settings.selection)
+    k = settings.island_count  # each island selects among its own (one key each, from its column)
     if sel.from_words is not None:
-        idx = sel.from_words(rows("select").T, old.fitness)
+        pick = sel.from_words
     else:
-        idx = sel.fn(_keys(rows("select")[:, :1])[0], old.fitness, **sel.options(settings))
+        def pick(w, fitness):
+            return sel.fn(_keys(w[:1].T)[0], fitness, **sel.options(settings))
+    idx = islands.select(pick, rows("select").T, old.fitness, k)
     perm, labels = old.perm[idx], old.labels[idx]
     genes = None if old.legs is None else _vary_genes(rows, old.legs[idx], settings)
     if n >= 2:
