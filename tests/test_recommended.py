@@ -42,7 +42,8 @@ def test_presets_and_their_budget():
     differs = {f.name for f in dataclasses.fields(GASettings)
                if getattr(PAPER, f.name) != getattr(RECOMMENDED, f.name)}
     assert differs == {"selection", "elites", "path_mutation", "pm_path", "seeding",
-                       "seeding_via", "wrap_clearer", "guided_arcs", "restart_after",
+                       "seeding_via", "wrap_clearer", "guided_arcs", "restart_after", "islands",
+                       "migrate_every",
                        "penalty_weight",
                        "generations_per_obstacle",
                        "ends_of_best", "straight_of_best", "tight_of_best"}
