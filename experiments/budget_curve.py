@@ -91,7 +91,7 @@ def curve(sc, preset: str, times: float, runs: int, seed: int, progress: bool = 
 def figure(table: pd.DataFrame):
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(7.2, 3.2))
+    fig = Figure(figsize=(8.4, 3.2))
     ax = fig.add_subplot()
     for name, rows in table.groupby("scene", sort=False):
         ax.plot(rows["multiple"], 100 * rows["hit_rate"], marker="o", label=name)
@@ -103,7 +103,8 @@ def figure(table: pd.DataFrame):
     ax.set_ylabel("runs at the optimum (%)")
     ax.set_ylim(0, 101)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    # beside the axes, not over them: a curve that ends low on the right stays in view
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     fig.tight_layout()
     return fig
 
