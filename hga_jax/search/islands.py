@@ -53,9 +53,9 @@ def select(pick: Callable[[Array, Array], Array], words: Array, fitness: Array,
     """Parents' indices into the whole population, ``(P,)``: ``pick(words, fitness)``
     (a selection's word-reading form) within each island, from that island's rows of
     ``words`` (P, ...)."""
-    if islands == 1:
-        return pick(words, fitness)
     local = per_island(pick, islands, words, fitness)  # indices within the island
+    if islands == 1:  # the island is the population: its indices are the population's
+        return local
     size = fitness.shape[0] // islands
     return (local + jnp.repeat(offsets(fitness.shape[0], islands), size)).astype(jnp.int32)
 
