@@ -86,6 +86,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
                 "obstacles that block the direct path"),
     "seeding_via": (float, None, "share of the seeded individuals that start from a path "
                     "through one random obstacle instead of the direct path"),
+    "restart_via": (float, None, "in a restart of a run whose best path collides, that share "
+                    "of the seeded individuals starts via a random obstacle too"),
     "wrap_clearer": (float, None, "share of the wraps (seeding, repair) that go round the "
                      "side whose two new legs pass through fewer obstacles (tight rope)"),
     "guided_arcs": (float, None, "share of the penalty the guided move's score adds for the "

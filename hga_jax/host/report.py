@@ -74,6 +74,9 @@ def _extras(st: GASettings) -> str:
     if st.seeding > 0:
         via = (f", {pct(st.seeding_via)} of them from a path via a random obstacle"
                if st.seeding_via > 0 else "")
+        if st.restart_via > 0 and st.restarts:
+            via += (f"; in a restart of a run whose best collides, {pct(st.restart_via)} of "
+                    "them via a random obstacle too")
         out.append(f"seeded by wrapping blockers ({pct(st.seeding)} of each new population{via})")
     if st.wrap_clearer > 0 and st.uses_legs and st.counts_wrap_sides:
         out.append(f"{pct(st.wrap_clearer)} of wraps round the side with fewer blockers")

@@ -94,16 +94,17 @@ def _restarts(state: GAState):
     return (g == 0) | ((g % jnp.maximum(r, 1) == 0) & (state.best.generation <= g - r))
 
 
-def _restarted(words, chrom, restart, sa, settings: GASettings):
+def _restarted(words, chrom, restart, sa, settings: GASettings, colliding=False):
     """``chrom = (perm, labels, legs)`` with fresh chromosomes (:func:`_fresh`, from the
-    generation's words) for a run that restarts. Drawn only when some run of the batch restarts
+    generation's words) for a run that restarts (``colliding``: its best so far collides,
+    read by ``restart_via``). Drawn only when some run of the batch restarts
     (:func:`~hga_jax.jax_compat.any_run`): at most one generation in
     ``restart_after`` (seeded fresh chromosomes cost about three generations)."""
     n = chrom[0].shape[-1]
 
     def fresh(old):
         return jax.tree.map(lambda f, o: jnp.where(restart, f, o),
-                            _fresh(words, n, settings, sa), old)
+                            _fresh(words, n, settings, sa, colliding), old)
 
     return jax.lax.cond(any_run(restart), fresh, lambda old: old, chrom)
 
@@ -128,7 +129,8 @@ def step(key, state: GAState) -> GAState:
     chrom = jax.lax.cond(  # children, unless every run of the batch restarts
         any_run(~restart), lambda w: _vary(w, pop, settings, sa),
         lambda w: (pop.perm, pop.labels, pop.legs), words)
-    perm, labels, legs = _restarted(words, chrom, restart, sa, settings)
+    colliding = (g > 0) & (state.best.violations > 0)  # generation 0 has no best yet
+    perm, labels, legs = _restarted(words, chrom, restart, sa, settings, colliding)
     pop = _kept(_evaluated(sa, perm, labels, legs, settings), state.pop, restart, settings)
     pop = _migrated(pop, g, restart, settings)
     best = _update_best(state.best, pop, g, settings)

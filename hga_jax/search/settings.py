@@ -27,7 +27,11 @@ the direct path, leg by leg (:func:`hga_jax.search.path_ops.wrap_blockers`) inst
 drawn at random; ``seeding_via``: the share of those seeded chromosomes whose wrapping
 starts from a path through one obstacle (the first of their random permutation, with
 its drawn label: a drawn 0 leaves the direct path) instead of the direct path, so that
-fresh populations also try corridors that the direct path's blockers do not lead to.
+fresh populations also try corridors that the direct path's blockers do not lead to;
+``restart_via``: in a restart of a run whose best path so far collides, that share of
+the seeded chromosomes (spread as ``seeding_via``'s, and those of both go) starts via an
+obstacle too, so a run stuck on a colliding path looks elsewhere (1: every seed; 0:
+restarts seed as generation 0 does).
 ``wrap_clearer``: the share of wraps (seeding's, and the ``repair`` move's) that go
 round the side of the wrapped obstacle whose two new legs pass through fewer obstacles
 (per-leg information, :func:`hga_jax.search.path_ops._wrap`); the other wraps, and a
@@ -97,12 +101,12 @@ from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
 RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
-         "pm_ends", "seeding_via", "wrap_clearer", "guided_arcs", "penalty_weight", "seeding",
-         "restart_after", "migrate_every")
+         "pm_ends", "seeding_via", "restart_via", "wrap_clearer", "guided_arcs",
+         "penalty_weight", "seeding", "restart_after", "migrate_every")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
 configurations that differ only in these run the same program. Of ``seeding``,
 ``restart_after`` and ``migrate_every`` only whether they are on (> 0) is structure."""
-SHARES = RATES[:11]
+SHARES = RATES[:12]
 """The :data:`RATES` that are probabilities or shares (float32 in the program)."""
 
 
@@ -122,6 +126,7 @@ class Rates(NamedTuple):
     pm_legs: Any
     pm_ends: Any
     seeding_via: Any
+    restart_via: Any
     wrap_clearer: Any
     guided_arcs: Any
     penalty_weight: Any
@@ -164,6 +169,7 @@ class GASettings:
     pm_path: float = 0.0
     seeding: float = 0.0
     seeding_via: float = 0.0
+    restart_via: float = 0.0
     wrap_clearer: float = 0.0
     guided_arcs: float = 0.0
     restart_after: int = 0
@@ -357,8 +363,8 @@ class GASettings:
         if self.migrate_every < 0:
             raise bad("migrate_every", f"must be >= 0 (0: never), got {self.migrate_every}")
         for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
-                    "seeding_via", "wrap_clearer", "guided_arcs", "pc_legs", "pm_legs",
-                    "pm_ends"):
+                    "seeding_via", "restart_via", "wrap_clearer", "guided_arcs", "pc_legs",
+                    "pm_legs", "pm_ends"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")

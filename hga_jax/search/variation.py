@@ -144,14 +144,17 @@ def _keys(rows):
     return rng.wrap(jnp.stack([rows[0], rows[1]], axis=-1))
 
 
-def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays | None = None):
+def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays | None = None,
+           colliding=False):
     """Generation 0's chromosomes from its words: random permutations and labels (and
     leg genes under free turns); with ``seeding``, the first ``round(seeding * P)`` are
     then built by :func:`hga_jax.search.path_ops.wrap_blockers` from their start and
     goal labels (keys from rows ``2n + 2`` and ``2n + 3``), keeping their random leg
     genes (straight ones lost a third of the hits on scenes where free turns win); the
     ``seeding_via`` share of them (spread over the population: :func:`spread`) start
-    from a path through the first obstacle of their permutation, with its drawn label.
+    from a path through the first obstacle of their permutation, with its drawn label,
+    and where ``colliding`` (a bool: the run restarts with a colliding best so far) the
+    ``restart_via`` share too (each spread by :func:`spread`; a seed in either goes).
     Returns ``(perm, labels, legs)``, legs None under the tight rope."""
     perm = permutation.permutation_from_words(words[:n].T)
     labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
@@ -165,8 +168,9 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     keys = _keys(words[2 * n + 2:2 * n + 4])
     pos = positional(perm, labels, settings)
     wrap_words = jax.vmap(lambda k: path_ops._words(k, 3 * n))(keys)  # (P, 3n)
-    sp, sl = path_ops.wrap_from_words(wrap_words.T, perm.T, pos.T, legs,  # population last
-                                      spread(perm.shape[0], settings.seeding_via))
+    via = spread(perm.shape[0], settings.seeding_via) | (
+        jnp.asarray(colliding) & spread(perm.shape[0], settings.restart_via))
+    sp, sl = path_ops.wrap_from_words(wrap_words.T, perm.T, pos.T, legs, via)  # population last
     sp, sl = sp.T, sl.T
     sl = bound(sp, sl, settings)
     on = (jnp.arange(perm.shape[0]) < settings.seeded_count())[:, None]  # each from its own column
