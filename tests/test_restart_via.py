@@ -9,6 +9,7 @@ from hga_jax.errors import ConfigError
 from hga_jax.host.config import load_scenario
 from hga_jax.search import ga
 from hga_jax.search.settings import PAPER
+from hga_jax.search.state import blank
 
 # seeded restarts every 2 generations; no seed via an obstacle unless a rate says so
 SEEDED = PAPER.replace(seeding=1.0, restart_after=2)
@@ -20,7 +21,7 @@ def due():
     best unchanged since 0: the next step restarts it."""
     sc = load_scenario("configs/scenarios/robocup_paper.toml")
     sa = SEEDED.model.search_arrays(sc, np.float32, SEEDED.collision, SEEDED.uses_legs)
-    state = ga.init(ga.run_key(3, 0), sa, SEEDED)
+    state = ga.compiled_step(ga.run_key(3, 0), blank(sa, SEEDED))  # generation 0
     best = state.best._replace(generation=jnp.int32(0))
     return state._replace(generation=jnp.int32(2), best=best)
 
