@@ -129,7 +129,7 @@ def step(key, state: GAState) -> GAState:
     chrom = jax.lax.cond(  # children, unless every run of the batch restarts
         any_run(~restart), lambda w: _vary(w, pop, settings, sa),
         lambda w: (pop.perm, pop.labels, pop.legs), words)
-    colliding = (g > 0) & (state.best.violations > 0)  # generation 0 has no best yet
+    colliding = state.best.violations > 0  # a blank state's best (generation 0) has none
     perm, labels, legs = _restarted(words, chrom, restart, sa, settings, colliding)
     pop = _kept(_evaluated(sa, perm, labels, legs, settings), state.pop, restart, settings)
     pop = _migrated(pop, g, restart, settings)

@@ -362,9 +362,7 @@ class GASettings:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         if self.migrate_every < 0:
             raise bad("migrate_every", f"must be >= 0 (0: never), got {self.migrate_every}")
-        for key in ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "seeding",
-                    "seeding_via", "restart_via", "wrap_clearer", "guided_arcs", "pc_legs",
-                    "pm_legs", "pm_ends"):
+        for key in (*SHARES, "seeding"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad(key, f"must be a number, got {v!r}")
