@@ -461,7 +461,7 @@ PAPER = GASettings()
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.75,
-                         wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
+                         restart_via=1.0, wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
                          islands=5, migrate_every=4, penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2,
                          straight_of_best=1, tight_of_best=1)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
@@ -469,7 +469,8 @@ restarts seeded by wrapping blocking obstacles (three wraps in four round the si
 new legs pass through fewer obstacles), one guided path move per child (the
 best of ten candidate moves by their legs and the moved obstacle's arc), tournament
 selection within five islands of ten, 2 elites each, the best of each island to the
-next every 4 generations, restarts of runs stalled for 12 generations, ten times the
+next every 4 generations, restarts of runs stalled for 12 generations (every seed of
+a restart via a random obstacle where the run's best path collides), ten times the
 paper's penalty per violation during the search, two children per generation that
 move the best path's ends (the Reeds–Shepp car only), one that is the best path with straight legs (free turns and
 the Reeds–Shepp car) and one more moved as the tight rope would move it, and a
