@@ -5,6 +5,7 @@ model in one module and one registration, used from Python and the command line.
 from __future__ import annotations
 
 import ast
+import functools
 import json
 import math
 import pathlib
@@ -33,8 +34,10 @@ def _example():
     return car_model.get("free-legs")
 
 
+@functools.cache
 def _scenes():
-    """The bundled RoboCup scene and two loops scenes (free turns beat the tight rope)."""
+    """The bundled RoboCup scene and two loops scenes (free turns beat the tight rope),
+    made on first use (not while the file is collected, in every worker)."""
     out = [load_scenario(ROOT / "configs" / "scenarios" / "robocup_paper.toml")]
     from hga_jax import scenario_from_dict
 
@@ -43,7 +46,7 @@ def _scenes():
     return out
 
 
-SCENES = _scenes()
+SCENE_COUNT = 3
 
 
 def test_registry_lists_the_papers_model_first_and_names_the_allowed_values():
@@ -85,12 +88,13 @@ def test_a_name_is_registered_once(registries):
 
 
 @pytest.mark.parametrize("name", BUILT_IN + ("reeds-shepp",))
-@pytest.mark.parametrize("k", range(len(SCENES)))
+@pytest.mark.parametrize("k", range(SCENE_COUNT))
 def test_each_model_answers_for_itself(name, k):
     """Every model's optimum is feasible where its graph joins start and goal, records
     its own name, writes a JSON-safe dict with the keys it adds, and a free-turn optimum
     is never longer than the tight rope's."""
-    sc, model = SCENES[k], car_model.get(name)
+    assert len(_scenes()) == SCENE_COUNT
+    sc, model = _scenes()[k], car_model.get(name)
     opt = solve(sc, "full", name)
     assert opt.turns == name and opt.feasible == exists(sc, "full", name)
     d = json.loads(json.dumps(json_safe(opt.to_dict()), allow_nan=False))
@@ -127,7 +131,7 @@ def test_the_example_model_is_one_module_and_one_registration():
     model = _example()
     assert model.name in car_model.names() and model.genes == car_model.get("free").genes
     assert "free-legs" in GASettings(turns="free-legs").turns
-    for sc in SCENES[1:]:
+    for sc in _scenes()[1:]:
         free, legs, tight = (solve(sc, "full", t) for t in ("free", "free-legs", "tight-rope"))
         assert legs.length == pytest.approx(leg_space.shortest(sc)[0], abs=1e-12)
         assert free.length <= legs.length + 1e-9 <= tight.length + 2e-9
@@ -138,7 +142,7 @@ def test_the_example_model_is_one_module_and_one_registration():
 
 def test_the_example_model_runs_from_python_and_the_command_line(tmp_path, capsys):
     _example()
-    sc = SCENES[1]
+    sc = _scenes()[1]
     st = GASettings(population=20, generations=20, turns="free-legs")
     res = run_many(sc, st, seed=1, runs=8)
     assert res.optimum.turns == "free-legs" and res.legs is not None

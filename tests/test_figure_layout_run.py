@@ -7,7 +7,9 @@ checked as it is written (``_figure_checks``), at the dpi of its PNG.
 """
 from __future__ import annotations
 
+import functools
 import inspect
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -102,36 +104,46 @@ def demo():
                     np.array([[1.4, 0.5], [2.0, 1.2]]), np.full(2, 0.09), Field(0, 3, 0, 1.6, True))
 
 
-def path_figures():
-    """Every path figure of this file's cases, by name."""
+@functools.cache
+def _path_inputs():
+    """The scenes and paths of the path figures, made once, on first use (not while
+    the file is collected, in every worker)."""
     sc, bad = robocup_violating()
-    opt = robocup_optimum(sc)
     cl, cl_path = cluttered()
-    many = crowd()
-    field = load_scenario("configs/scenarios/open_field.toml")
     d = demo()
-    through = evaluate_path(d, [0, 1], [-1, 0, 0, 1])
+    field = load_scenario("configs/scenarios/open_field.toml")
+    return SimpleNamespace(sc=sc, bad=bad, opt=robocup_optimum(sc), cl=cl, cl_path=cl_path,
+                           many=crowd(), field=field, d=d,
+                           through=evaluate_path(d, [0, 1], [-1, 0, 0, 1]),
+                           direct=evaluate_path(field, [], [1, -1]))
+
+
+def path_figures():
+    """Every path figure of this file's cases, by name (each drawn when called)."""
+    def on(draw):
+        return lambda: draw(_path_inputs())
+
     return {
-        "robocup, violation, long title": lambda: plot_path(
-            sc, bad.segments, touched=bad.touched, violations_at=bad.violations_at,
-            optimum=opt.segments, title=long_title(bad)),
-        "robocup, best": lambda: plot_path(
-            sc, opt.segments, touched=opt.touched,
-            title=path_title("robocup_paper", "best (run 4)", opt.length, 0, "full", GASettings())),
-        "robocup, very long title": lambda: plot_path(
-            sc, opt.segments, touched=opt.touched,
-            title=long_title(bad) + "; " + ", ".join(f"setting {k} = {k / 10}" for k in range(12))),
-        "cluttered, optimum": lambda: plot_path(cl, cl_path.segments, touched=cl_path.touched,
-                                                title="cluttered: optimum"),
-        "cluttered, all touched": lambda: plot_path(
-            cl, cl_path.segments, touched=[(k + 1, 1 if k % 2 else -1) for k in range(cl.n)]),
-        "40 robots, all touched": lambda: plot_path(
-            many, [], touched=[(k + 1, -1 if k % 3 else 1) for k in range(many.n)]),
-        "demo, cross on the centre": lambda: plot_path(d, through.segments,
-                                                       violations_at=through.violations_at),
-        "open field, no path": lambda: plot_path(field, [], title="open_field: no path"),
-        "open field, a path": lambda: plot_path(
-            field, evaluate_path(field, [], [1, -1]).segments, title="open_field: Dubins"),
+        "robocup, violation, long title": on(lambda i: plot_path(
+            i.sc, i.bad.segments, touched=i.bad.touched, violations_at=i.bad.violations_at,
+            optimum=i.opt.segments, title=long_title(i.bad))),
+        "robocup, best": on(lambda i: plot_path(
+            i.sc, i.opt.segments, touched=i.opt.touched,
+            title=path_title("robocup_paper", "best (run 4)", i.opt.length, 0, "full", GASettings()))),
+        "robocup, very long title": on(lambda i: plot_path(
+            i.sc, i.opt.segments, touched=i.opt.touched,
+            title=long_title(i.bad) + "; " + ", ".join(f"setting {k} = {k / 10}" for k in range(12)))),
+        "cluttered, optimum": on(lambda i: plot_path(i.cl, i.cl_path.segments, touched=i.cl_path.touched,
+                                                     title="cluttered: optimum")),
+        "cluttered, all touched": on(lambda i: plot_path(
+            i.cl, i.cl_path.segments, touched=[(k + 1, 1 if k % 2 else -1) for k in range(i.cl.n)])),
+        "40 robots, all touched": on(lambda i: plot_path(
+            i.many, [], touched=[(k + 1, -1 if k % 3 else 1) for k in range(i.many.n)])),
+        "demo, cross on the centre": on(lambda i: plot_path(i.d, i.through.segments,
+                                                            violations_at=i.through.violations_at)),
+        "open field, no path": on(lambda i: plot_path(i.field, [], title="open_field: no path")),
+        "open field, a path": on(lambda i: plot_path(
+            i.field, i.direct.segments, title="open_field: Dubins")),
     }
 
 

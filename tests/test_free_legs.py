@@ -4,6 +4,7 @@ path check, runs that hit the free-turn optimum, and the tight rope left as it w
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 
@@ -29,28 +30,38 @@ from hga_jax.study import loops
 FREE_RECOMMENDED = dataclasses.replace(RECOMMENDED, turns="free")
 
 
-def _scenes():
-    """Loop scenes (free turns win), the degenerate families, and uniform ones."""
-    out = [("loop", _loop_scene())]
+FAMILIES = ("grid", "overlapping", "degenerate")
+NAMES = ("loop", *loops.KINDS, *(f"{family}{i}" for family in FAMILIES for i in range(2)))
+"""The scenes of the parametrised tests: a loop scene (free turns win), the loop kinds,
+two of each degenerate family."""
+
+
+@functools.cache
+def _scenes() -> dict:
+    """The scenes by name (:data:`NAMES`), made on first use (not while the file is
+    collected, in every worker)."""
+    out = {"loop": _loop_scene()}
     for kind in loops.KINDS:
-        out.append((kind, scenario_from_dict(loops.generate(kind, 6, 71, 0, kind), kind)))
-    for family in ("grid", "overlapping", "degenerate"):
+        out[kind] = scenario_from_dict(loops.generate(kind, 6, 71, 0, kind), kind)
+    for family in FAMILIES:
         for i, d in enumerate(_families.scenes(family, 17, 2)):
-            out.append((f"{family}{i}", scenario_from_dict(d, family)))
+            out[f"{family}{i}"] = scenario_from_dict(d, family)
+    assert tuple(out) == NAMES
     return out
 
 
-SCENES = _scenes()
+def _lane(names):
+    """Two scenes in the default lane, the rest on demand."""
+    return [n if n in ("loop", "grid0") else pytest.param(n, marks=pytest.mark.slow) for n in names]
 
 
 def _genes(rng, count, n):
     return rng.integers(0, 3, (count, n + 2)).astype(np.int32)
 
 
-@pytest.mark.parametrize("name, sc", [  # two scenes in the default lane, the rest on demand
-    pytest.param(*s, marks=pytest.mark.slow) if s[0] not in ("loop", "grid0") else s
-    for s in SCENES], ids=[s[0] for s in SCENES])
-def test_turn_table_with_leg_genes_equals_the_decoder(name, sc):
+@pytest.mark.parametrize("name", _lane(NAMES))
+def test_turn_table_with_leg_genes_equals_the_decoder(name):
+    sc = _scenes()[name]
     rng = np.random.default_rng(3)
     perm, labels = _families.chromosomes(rng, sc.n, 400)
     legs = _genes(rng, 400, sc.n)
@@ -65,10 +76,9 @@ def test_turn_table_with_leg_genes_equals_the_decoder(name, sc):
     np.testing.assert_array_equal(np.asarray(viol), np.asarray(d.violations))
 
 
-@pytest.mark.parametrize("name, sc", [  # two scenes in the default lane, the rest on demand
-    pytest.param(*s, marks=pytest.mark.slow) if s[0] not in ("loop", "grid0") else s
-    for s in SCENES], ids=[s[0] for s in SCENES])
-def test_gene_zero_is_the_tight_rope_where_the_tight_rope_is_clear(name, sc):
+@pytest.mark.parametrize("name", _lane(NAMES))
+def test_gene_zero_is_the_tight_rope_where_the_tight_rope_is_clear(name):
+    sc = _scenes()[name]
     rng = np.random.default_rng(5)
     perm, labels = _families.chromosomes(rng, sc.n, 400)
     with jax.enable_x64(True):
@@ -83,8 +93,9 @@ def test_gene_zero_is_the_tight_rope_where_the_tight_rope_is_clear(name, sc):
     assert not (np.asarray(zero.free)[..., 3] * real)[clear].any()  # no free leg on them
 
 
-@pytest.mark.parametrize("name, sc", SCENES[:3], ids=[s[0] for s in SCENES[:3]])
-def test_free_legs_touch_both_circles_from_outside(name, sc):
+@pytest.mark.parametrize("name", NAMES[:3])
+def test_free_legs_touch_both_circles_from_outside(name):
+    sc = _scenes()[name]
     lt = free_legs.leg_table(sc)
     x, y, r, sign, _ = sc.circles(np.float64)
     rho = sc.min_turn_radius
@@ -100,8 +111,9 @@ def test_free_legs_touch_both_circles_from_outside(name, sc):
     np.testing.assert_allclose(lt.length[v, a, c], rho * lt.sweep[v, a, c], rtol=1e-12)
 
 
-@pytest.mark.parametrize("name, sc", SCENES[:3], ids=[s[0] for s in SCENES[:3]])
-def test_decoded_free_paths_pass_the_independent_check(name, sc):
+@pytest.mark.parametrize("name", NAMES[:3])
+def test_decoded_free_paths_pass_the_independent_check(name):
+    sc = _scenes()[name]
     rng = np.random.default_rng(11)
     perm, labels = _families.chromosomes(rng, sc.n, 2000, p_zero=0.8)
     legs = _genes(rng, 2000, sc.n)

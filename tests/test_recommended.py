@@ -3,6 +3,7 @@ finding the optimum on small obstructed families, of the studies' generator and 
 held-out clusters generator, at 9 and 15 obstacles (thresholds set from measured rates).
 """
 import dataclasses
+import functools
 import tomllib
 from pathlib import Path
 
@@ -55,15 +56,18 @@ def test_presets_and_their_budget():
 # (That was hga-jax 0.3's recommended HGA, with flips; the 0.4 one, guided moves, hit
 # in 2,000 of 2,000 runs, 500 per scene.) Thresholds: 98% for the recommended (4 misses
 # allowed in 240 runs), 25% for the paper.
-SCENES = [scenario_from_dict(generate("obstructed", 9, 31, i, f"obstructed9_{i}"), f"scene {i}")
-          for i in range(4)]
+@functools.cache
+def _scenes():
+    """Made on first use (not while the file is collected, in every worker)."""
+    return [scenario_from_dict(generate("obstructed", 9, 31, i, f"obstructed9_{i}"), f"scene {i}")
+            for i in range(4)]
 
 
 @pytest.mark.parametrize("name, low, high", [  # the held-out tests below cover the default lane
     pytest.param("recommended", 0.98, 1.0, marks=pytest.mark.slow), ("paper", 0.0, 0.25)])
 def test_hit_rate_on_a_small_obstructed_family(name, low, high):
     hits, evaluations = [], 0
-    for sc in SCENES:
+    for sc in _scenes():
         res = run_many(sc, PRESETS[name], seed=0, runs=60, preset=name)
         hits.append(res.hit)
         evaluations = res.evaluations
@@ -83,12 +87,15 @@ def test_hit_rate_on_a_small_obstructed_family(name, low, high):
 #   each: recommended 100%, 100%; paper 2.2%, 1.6%.
 # - clusters, 15 obstacles, seed 78, scenes 0-1, 500 runs each: recommended 100%, 100%;
 #   paper 9.2%, 2.2%.
-HELD_OUT = {
-    "clusters9": ([clusters.generate(9, 77, i, f"clusters9_{i}") for i in range(4)], 60),
-    "obstructed15": ([generate("obstructed", 15, 79, i, f"obstructed15_{i}") for i in range(2)],
-                     25),
-    "clusters15": ([clusters.generate(15, 78, i, f"clusters15_{i}") for i in range(2)], 25),
-}
+@functools.cache
+def _held_out(family):
+    """A family's scenes and runs per scene, made on first use."""
+    return {
+        "clusters9": lambda: ([clusters.generate(9, 77, i, f"clusters9_{i}") for i in range(4)], 60),
+        "obstructed15": lambda: ([generate("obstructed", 15, 79, i, f"obstructed15_{i}")
+                                  for i in range(2)], 25),
+        "clusters15": lambda: ([clusters.generate(15, 78, i, f"clusters15_{i}") for i in range(2)], 25),
+    }[family]()
 
 
 @pytest.mark.parametrize("family, name, low, high", [  # quality checks, on demand (-m slow);
@@ -99,7 +106,7 @@ HELD_OUT = {
     pytest.param("obstructed15", "paper", 0.0, 0.15, marks=pytest.mark.slow),
     pytest.param("clusters15", "recommended", 0.95, 1.0, marks=pytest.mark.slow)])
 def test_hit_rate_on_held_out_families(family, name, low, high):
-    dicts, runs = HELD_OUT[family]
+    dicts, runs = _held_out(family)
     hits, feasible = [], []
     for d in dicts:
         res = run_many(scenario_from_dict(d, d["name"]), PRESETS[name], seed=0, runs=runs,
