@@ -89,7 +89,10 @@ def test_seeded_generation_zero_wraps_blockers(robocup):
 
     seeded = run_many(robocup, PAPER.replace(generations=0, seeding=1.0), seed=0, runs=50,
                       exact=False)
-    random = run_many(robocup, PAPER.replace(generations=0), seed=0, runs=50, exact=False)
+    # generation 0 of the paper's runs (60 of them: the program test_recommended.py and the
+    # held-out floors compile)
+    random = run_many(robocup, PAPER, seed=0, runs=60, exact=False)
     assert np.all(np.count_nonzero(seeded.labels[:, 1:-1], axis=1) >= 1)
-    assert np.mean(seeded.violations == 0) > 0.9 > np.mean(random.violations == 0)
+    random_feasible = np.asarray(random.history["best_so_far_violations"])[0] == 0
+    assert np.mean(seeded.violations == 0) > 0.9 > np.mean(random_feasible)
     assert np.median(seeded.length[seeded.violations == 0]) < 2.6  # the optimum: 2.2454 m
