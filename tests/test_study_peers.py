@@ -70,37 +70,22 @@ def test_an_ompl_path_that_clips_an_obstacle_counts_infeasible(tmp_path, monkeyp
         assert doc["paths"][0] == [list(sc.start), list(sc.goal)]
 
 
-def _crash_once(marker: str) -> int:
-    """Ends its process as a segmentation fault would, the first time (the worker
-    process imports this module to call it)."""
-    import signal
-
-    if not os.path.exists(marker):
-        open(marker, "w").close()
-        os.kill(os.getpid(), signal.SIGSEGV)
-    return os.getpid()
-
-
-def _crash_always() -> None:
-    import signal
-
-    os.kill(os.getpid(), signal.SIGSEGV)
-
-
 def test_a_peer_that_crashes_its_process_is_run_again_in_a_fresh_one(tmp_path):
     """OMPL's BIT* crashes its process now and then: a study's OMPL cells run in a
     worker process, a call whose worker dies is made again in a fresh one, and a peer
     that dies again is a one-line error, not the end of the study's process."""
+    from _crashing_peer import crash_always, crash_once
+
     from hga_jax.peers import isolated
 
     marker = str(tmp_path / "crashed")
-    pid = isolated.call(_crash_once, marker, what="the test peer")
+    pid = isolated.call(crash_once, marker, what="the test peer")
     assert os.path.exists(marker) and pid != os.getpid()
-    assert isolated.call(_crash_once, marker) == pid  # the fresh worker is kept
+    assert isolated.call(crash_once, marker) == pid  # the fresh worker is kept
     with pytest.raises(PeerCrashed, match=r"^the test peer crashed 2 times in a row \(its "
                                           r"process died; the finished cells are kept"):
-        isolated.call(_crash_always, what="the test peer")
-    assert isolated.call(_crash_once, marker) != pid  # and replaced after a death
+        isolated.call(crash_always, what="the test peer")
+    assert isolated.call(crash_once, marker) != pid  # and replaced after a death
 
 
 def test_ompl_accepts_the_clipping_motion_that_the_model_rejects():
