@@ -232,17 +232,16 @@ def test_plot_command_redraws_any_run_with_the_optimum(tiny, tmp_path):
 
 
 def test_summary_reads_well(tmp_path, capsys):
-    scen = _write(tmp_path, GOOD, "good.toml")
-    # the job of test_preset_paper_reproduces_the_papers_settings_and_is_recorded: one program
-    assert main(["run", scen, "--runs", "1", "--generations", "2",
-                 "--quiet", "--out", str(tmp_path / "o")]) == 0
+    # one run of the bundled scene: test_islands.py's single run compiles the program
+    assert main(["run", ROBOCUP, "--runs", "1", "--quiet", "--out", str(tmp_path / "o")]) == 0
     text = capsys.readouterr().out
     assert "None" not in text and "1 runs" not in text and "1 run of seed 0" in text
     assert "collision full" in text and "tournament selection (size 2)" in text
     assert "operators (preset recommended)" in text
     assert "path move guided (pm 1, arcs at 100.00% of the penalty)" in text
-    # 1 obstacle: 2 generations, as the rule says
-    assert "2 generations (generations = 2 + 24 * max(0, n - 9))" in text
+    assert "in a restart of a run whose best collides, 100.00% of them via a random obstacle" in text
+    # 9 obstacles: 50 generations, as the rule says
+    assert "50 generations (generations = 50 + 24 * max(0, n - 9))" in text
     assert "restart after 12 stalled generations" in text
     assert "penalty 10 x 2 pi R per violation in the search" in text
     import re
