@@ -72,6 +72,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
                                 "obstacles, see --generations-per-obstacle)")),
     "generations_per_obstacle": (int, None, ("generations added per obstacle beyond 9 "
                                              "(0: a fixed count)")),
+    "reversing_budget": (int, None, ("times the generations for a car that also drives "
+                                     "backward (1: as the forward car)")),
     "pc_upper": (float, None, "crossover probability per pair of parents, permutation"),
     "pm_upper": (float, None, "mutation probability per individual, permutation"),
     "pc_lower": (float, None, "crossover probability per pair of parents, labels"),
@@ -442,7 +444,8 @@ def _run_checks(args, scenario, settings, out: str, prior: list) -> None:
     from hga_jax.running import budget
     from .output import check_folder
 
-    budget.plan(scenario.n, settings, args.runs, args.chunk, jax.local_device_count())
+    budget.plan(scenario.n, settings.for_car(scenario.car), args.runs, args.chunk,
+                jax.local_device_count())
     if jax.process_index() != 0:
         return
     if args.resume:

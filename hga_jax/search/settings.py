@@ -59,6 +59,9 @@ themselves; every
 ``generations + k * max(0, n - 9)`` generations (9: the paper's scene), so the
 budget grows with the scene; :meth:`GASettings.for_obstacles` resolves it (the
 runner does, and records the rule in ``result.json``). 0 (the paper): a fixed count.
+``reversing_budget = m``: a car that also drives backward (a car model that
+``reverses``, the Reeds–Shepp car) makes ``m`` times those generations (its chromosome
+is larger: leg genes with gears, end moves); 1 (the paper): as the forward car.
 
 ``turns``: the car model the GA searches (:mod:`hga_jax.model.car_model`, the object
 :attr:`GASettings.model`). ``"tight-rope"`` (the paper's): the chromosome is the
@@ -176,6 +179,7 @@ class GASettings:
     islands: int = 1
     migrate_every: int = 0
     generations_per_obstacle: int = 0
+    reversing_budget: int = 1
     turns: str = car_model.DEFAULT
     leg_crossover: str = "two_point"
     leg_mutation: str = "redraw"
@@ -200,24 +204,33 @@ class GASettings:
         turns = car_model.resolve(self.turns, car)
         return self if turns == self.turns else dataclasses.replace(self, turns=turns)
 
+    def _times(self) -> int:
+        """The ``reversing_budget`` factor where the car model reverses, else 1."""
+        return self.reversing_budget if self.model.reverses else 1
+
     def for_obstacles(self, n: int) -> GASettings:
         """The settings of a run on ``n`` obstacles: ``generations`` raised by
-        ``generations_per_obstacle`` per obstacle beyond :data:`BUDGET_BASE`, and
-        ``generations_per_obstacle`` then 0 (resolved; resolving again changes nothing)."""
-        if not self.generations_per_obstacle:
-            return self
+        ``generations_per_obstacle`` per obstacle beyond :data:`BUDGET_BASE` (and times
+        ``reversing_budget`` for a car that reverses), then ``generations_per_obstacle``
+        0 and ``reversing_budget`` 1 (resolved; resolving again changes nothing). Resolve
+        the car first (:meth:`for_car`)."""
+        m = self._times()
+        if not self.generations_per_obstacle and m == 1:
+            return self if self.reversing_budget == 1 else dataclasses.replace(self, reversing_budget=1)
         extra = self.generations_per_obstacle * max(0, int(n) - BUDGET_BASE)
-        return dataclasses.replace(self, generations=self.generations + extra,
-                                   generations_per_obstacle=0)
+        return dataclasses.replace(self, generations=m * (self.generations + extra),
+                                   generations_per_obstacle=0, reversing_budget=1)
 
     def budget(self, n: int) -> dict[str, Any] | None:
         """How the generation count of a run on ``n`` obstacles was set (None: fixed)."""
-        k = self.generations_per_obstacle
-        if not k:
+        k, m = self.generations_per_obstacle, self._times()
+        if not k and m == 1:
             return None
+        rule = f"{self.generations} + {k} * max(0, n - {BUDGET_BASE})" if k else f"{self.generations}"
+        if m != 1:
+            rule = f"{m} * ({rule}) (a car that reverses)" if k else f"{m} * {rule} (a car that reverses)"
         g = self.for_obstacles(n).generations
-        return {"rule": f"generations = {self.generations} + {k} * max(0, n - {BUDGET_BASE})",
-                "obstacles": int(n), "generations": g,
+        return {"rule": f"generations = {rule}", "obstacles": int(n), "generations": g,
                 "evaluations_per_run": self.population * (g + 1)}
 
     def rates(self, dtype: Any = np.float32) -> Rates:
@@ -246,7 +259,7 @@ class GASettings:
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
             self, **{k: 0.0 for k in SHARES}, penalty_weight=1.0, generations=0,
-            seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0),
+            generations_per_obstacle=0, reversing_budget=1, seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0),
             migrate_every=int(self.migrate_every > 0), **idle)
 
     def with_rates(self, rates: Rates) -> "GASettings":
@@ -330,8 +343,8 @@ class GASettings:
             return f"population ({self.population}, from {origins.get('population', 'the default')})"
 
         for key in ("population", "generations", "tournament_size", "elites", "restart_after",
-                    "islands", "migrate_every", "generations_per_obstacle", "ends_of_best", "straight_of_best",
-                    "tight_of_best"):
+                    "islands", "migrate_every", "generations_per_obstacle", "reversing_budget",
+                    "ends_of_best", "straight_of_best", "tight_of_best"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad(key, f"must be an integer, got {v!r}")
@@ -358,6 +371,9 @@ class GASettings:
         if self.generations_per_obstacle < 0:
             raise bad("generations_per_obstacle", f"must be >= 0 (0: a fixed count), "
                       f"got {self.generations_per_obstacle}")
+        if self.reversing_budget < 1:
+            raise bad("reversing_budget", f"must be >= 1 (1: as the forward car), "
+                      f"got {self.reversing_budget}")
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         if self.migrate_every < 0:
@@ -462,7 +478,8 @@ PAPER = GASettings()
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.75,
                          restart_via=1.0, wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
-                         islands=5, migrate_every=4, penalty_weight=10.0, generations_per_obstacle=24, ends_of_best=2,
+                         islands=5, migrate_every=4, penalty_weight=10.0, generations_per_obstacle=24,
+                         reversing_budget=3, ends_of_best=2,
                          straight_of_best=1, tight_of_best=1)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
@@ -471,7 +488,8 @@ best of ten candidate moves by their legs and the moved obstacle's arc), tournam
 selection within five islands of ten, 2 elites each, the best of each island to the
 next every 4 generations, restarts of runs stalled for 12 generations (every seed of
 a restart via a random obstacle where the run's best path collides), ten times the
-paper's penalty per violation during the search, two children per generation that
+paper's penalty per violation during the search, three times the generations for a car
+that reverses, two children per generation that
 move the best path's ends (the Reeds–Shepp car only), one that is the best path with straight legs (free turns and
 the Reeds–Shepp car) and one more moved as the tight rope would move it, and a
 budget that grows with the scene: the paper's 50 x 51 chromosomes up to 9 obstacles,

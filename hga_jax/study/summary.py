@@ -200,7 +200,8 @@ def setup(study, scenes, docs: list[dict[str, Any]]) -> str:
             s = c.settings
             what = (f"{'DEAP, ' if c.solver == 'deap' else ''}population {s.population}, "
                     f"{'0 generations (random search)' if c.solver == 'random' else f'{s.generations} generations'}"
-                    f"{f' + {s.generations_per_obstacle} per obstacle beyond 9' if s.generations_per_obstacle and c.solver == 'hga' else ''}: "
+                    f"{f' + {s.generations_per_obstacle} per obstacle beyond 9' if s.generations_per_obstacle and c.solver == 'hga' else ''}"
+                    f"{f' (times {s.reversing_budget} for a car that reverses)' if s.reversing_budget != 1 and c.solver == 'hga' else ''}: "
                     f"{'about ' if c.solver == 'deap' else ''}{span} evaluations"
                     f"{' (only changed individuals are evaluated again)' if c.solver == 'deap' else ''}")
         lines.append(f"- `{c.label}`: {what}; {runs} run{'s' if runs != 1 else ''} per scene"
