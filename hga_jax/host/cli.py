@@ -444,6 +444,7 @@ def _run_checks(args, scenario, settings, out: str, prior: list) -> None:
     from hga_jax.running import budget
     from .output import check_folder
 
+    validation.car(scenario, settings)  # before for_car: the error names robot.car
     budget.plan(scenario.n, settings.for_car(scenario.car), args.runs, args.chunk,
                 jax.local_device_count())
     if jax.process_index() != 0:
