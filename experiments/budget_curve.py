@@ -62,7 +62,7 @@ def scene(spec: str):
 def curve(sc, preset: str, times: float, runs: int, seed: int, progress: bool = False
           ) -> list[dict]:
     """Rows of hit rate, feasible share and seconds per run at each budget multiple."""
-    base = hg.settings_for(sc, presets(preset, "budget_curve")).for_obstacles(sc.n)
+    base = hg.settings_for(sc, presets(preset, "budget_curve")).for_car(sc.car).for_obstacles(sc.n)
     long = dataclasses.replace(base, generations=int(round(times * base.generations)),
                                generations_per_obstacle=0)
     res = hg.run_many(sc, long, seed=seed, runs=runs, progress=progress)

@@ -20,6 +20,9 @@ def test_the_reversing_car_makes_three_times_the_forward_cars_generations(n):
     assert reversing.generations == 3 * forward.generations
     assert reversing.for_obstacles(n) == reversing  # resolved: again changes nothing
     assert (reversing.generations_per_obstacle, reversing.reversing_budget) == (0, 1)
+    # resolved for the forward car first, the factor is kept and applies with the car
+    assert forward.reversing_budget == 3
+    assert forward.for_car("reeds-shepp").for_obstacles(n) == reversing
     # the paper's preset: 50 generations for either car
     assert PAPER.for_car("reeds-shepp").for_obstacles(n).generations == 50
 

@@ -212,14 +212,17 @@ class GASettings:
         """The settings of a run on ``n`` obstacles: ``generations`` raised by
         ``generations_per_obstacle`` per obstacle beyond :data:`BUDGET_BASE` (and times
         ``reversing_budget`` for a car that reverses), then ``generations_per_obstacle``
-        0 and ``reversing_budget`` 1 (resolved; resolving again changes nothing). Resolve
-        the car first (:meth:`for_car`)."""
+        0 and, where it was applied, ``reversing_budget`` 1 (resolved; resolving again
+        changes nothing). Resolve the car first (:meth:`for_car`): for the forward car the
+        factor is kept, unapplied, so that settings resolved for the car later still
+        apply it."""
         m = self._times()
         if not self.generations_per_obstacle and m == 1:
-            return self if self.reversing_budget == 1 else dataclasses.replace(self, reversing_budget=1)
+            return self
         extra = self.generations_per_obstacle * max(0, int(n) - BUDGET_BASE)
         return dataclasses.replace(self, generations=m * (self.generations + extra),
-                                   generations_per_obstacle=0, reversing_budget=1)
+                                   generations_per_obstacle=0,
+                                   reversing_budget=1 if m != 1 else self.reversing_budget)
 
     def budget(self, n: int) -> dict[str, Any] | None:
         """How the generation count of a run on ``n`` obstacles was set (None: fixed)."""
