@@ -103,14 +103,13 @@ from hga_jax.model import car_model
 from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
-RATES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
-         "pm_ends", "seeding_via", "restart_via", "wrap_clearer", "guided_arcs",
-         "penalty_weight", "seeding", "restart_after", "migrate_every")
+SHARES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
+          "pm_ends", "seeding_via", "restart_via", "wrap_clearer", "guided_arcs")
+"""The :data:`RATES` that are probabilities or shares (float32 in the program)."""
+RATES = SHARES + ("penalty_weight", "seeding", "restart_after", "migrate_every")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
 configurations that differ only in these run the same program. Of ``seeding``,
 ``restart_after`` and ``migrate_every`` only whether they are on (> 0) is structure."""
-SHARES = RATES[:12]
-"""The :data:`RATES` that are probabilities or shares (float32 in the program)."""
 
 
 class Rates(NamedTuple):
@@ -231,7 +230,7 @@ class GASettings:
             return None
         rule = f"{self.generations} + {k} * max(0, n - {BUDGET_BASE})" if k else f"{self.generations}"
         if m != 1:
-            rule = f"{m} * ({rule}) (a car that reverses)" if k else f"{m} * {rule} (a car that reverses)"
+            rule = (f"{m} * ({rule})" if k else f"{m} * {rule}") + " (a car that reverses)"
         g = self.for_obstacles(n).generations
         return {"rule": f"generations = {rule}", "obstacles": int(n), "generations": g,
                 "evaluations_per_run": self.population * (g + 1)}
@@ -249,7 +248,8 @@ class GASettings:
     def structure(self) -> "GASettings":
         """These settings without their :data:`RATES` (probabilities 0, weight 1;
         ``seeding`` and ``restart_after`` 1 where on, else 0), without their generation
-        count (0: a block of generations takes its last generation as data) and with the
+        count and its rule (0, ``generations_per_obstacle`` 0, ``reversing_budget`` 1: a
+        block of generations takes its last generation as data) and with the
         defaults of the :data:`MODEL_FIELDS` that their car model does not read: what a
         compiled program depends on, and its identity."""
         genes = self.model.genes
@@ -262,8 +262,9 @@ class GASettings:
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
             self, **{k: 0.0 for k in SHARES}, penalty_weight=1.0, generations=0,
-            generations_per_obstacle=0, reversing_budget=1, seeding=float(self.seeding > 0), restart_after=int(self.restart_after > 0),
-            migrate_every=int(self.migrate_every > 0), **idle)
+            generations_per_obstacle=0, reversing_budget=1, seeding=float(self.seeding > 0),
+            restart_after=int(self.restart_after > 0), migrate_every=int(self.migrate_every > 0),
+            **idle)
 
     def with_rates(self, rates: Rates) -> "GASettings":
         """These settings (a structure) with the :data:`RATES` of ``rates`` (traced
