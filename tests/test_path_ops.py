@@ -268,13 +268,14 @@ def _run(move, legs, perm, labels, seed):
 
 def test_registry_holds_the_documented_moves():
     assert set(registry.names("path_mutation")) >= {"none", "flip", "drop", "insert", "shift",
-                                                     "repair", "mixed", "guided"}
+                                                     "repair", "mixed", "guided",
+                                                     "guided_pairs"}
 
 
 @pytest.mark.parametrize("name, scene", [  # the composite moves on 30 obstacles on demand
     # (-m slow); every move on one and nine obstacles, and the simple ones on 30, by default
     pytest.param(n, s, marks=pytest.mark.slow)
-    if n in ("guided", "mixed") and SCENES[s][0] == 30 else (n, s)
+    if n in ("guided", "guided_pairs", "mixed") and SCENES[s][0] == 30 else (n, s)
     for s in SCENES for n in sorted(registry.names("path_mutation")[1:])],
     ids=lambda v: str(v))
 def test_every_move_keeps_chromosomes_valid_and_does_what_it_says(scenes, name, scene):
@@ -287,10 +288,21 @@ def test_every_move_keeps_chromosomes_valid_and_does_what_it_says(scenes, name, 
     assert p2.dtype == np.int32 and l2.dtype == np.int32
     assert np.array_equal(np.sort(p2, axis=1), np.tile(np.arange(n), (COUNT, 1)))
     assert np.all(np.isin(l2, (-1, 0, 1))) and np.all(l2[:, [0, -1]] != 0)
-    if name == "guided":  # the best of candidate moves: each result is one of them
+    if name.startswith("guided"):  # the best of candidate moves: each result is one of
+        # them (guided_pairs: or one of them with one touched circle then turned)
+        def some_move(lab2):
+            return any(check(perm[c], labels[c], p2[c], lab2, legs) for check in CHECKS.values())
+
+        turned = 0
         for c in range(COUNT):
-            assert any(check(perm[c], labels[c], p2[c], l2[c], legs) for check in CHECKS.values()
-                       ), (c, perm[c], labels[c], p2[c], l2[c])
+            if some_move(l2[c]):
+                continue
+            assert name == "guided_pairs", (c, perm[c], labels[c], p2[c], l2[c])
+            flips = [np.where(np.arange(n + 2) == t, -l2[c], l2[c]) for t in np.flatnonzero(l2[c])]
+            assert any(some_move(f) for f in flips), (c, perm[c], labels[c], p2[c], l2[c])
+            turned += 1
+        if name == "guided_pairs" and n > 1:
+            assert turned > 0  # the paired versions are chosen now and then
         return
     if name == "mixed":
         kinds = {nm: 0 for nm in CHECKS}

@@ -35,6 +35,8 @@ in the order above.
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import jax
 import jax.numpy as jnp
 from jax import Array
@@ -77,27 +79,32 @@ def leg_score(perm: Array, labels: Array, legs) -> Array:
     return total
 
 
-def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array,
-           arcs: Array | None = None, arc_penalty: Array | float = 0.0) -> Array:
-    """:func:`leg_score` of the chromosome ``plan`` makes minus that of ``(perm,
-    labels)`` (``v``: its :func:`path_ops.view`; ``w``: :func:`weights`), from the legs
-    the plan removes and adds: the obstacle at position ``j`` leaves its place between
-    its touched neighbours (if it was touched) and enters its new one (if its label is
-    not 0); a flipped end changes its one leg. Both sums are formed in one order, so a
-    plan that changes nothing scores 0. Every place is read from the view's running
-    neighbours, a few look-ups per candidate whatever the length of the path. ``plan``
-    may hold several candidates along leading axes of its own (scored side by side).
+class Places(NamedTuple):
+    """Where a plan's obstacle (at chromosome position ``r``) leaves and enters, as
+    chromosome positions of the path before the plan (int32, one per candidate and
+    chromosome): its touched neighbours ``p`` and ``q`` where it leaves (if it ``was``
+    touched), and ``p2`` and ``q2``, the touched circles other than it that it enters
+    between (if it ``enters``, with circle ``c_new``); and the circles at ``r``, ``p``,
+    ``q``, ``p2`` and ``q2`` (``c_old``, ``cp``, ``cq``, ``c2p``, ``c2q``)."""
 
-    With ``arcs`` (:func:`hga_jax.model.legs.arcs_from_turns`), the moved obstacle's
-    arc counts too: ``arc_penalty`` more where its arc at the new place has a violation
-    of its own, less where its arc at the old place had one (its neighbours' arcs,
-    which change as well, are not read)."""
-    s = labels.shape[0]
-    n = s - 2
+    r: Array
+    was: Array
+    p: Array
+    q: Array
+    p2: Array
+    q2: Array
+    enters: Array
+    c_new: Array
+    c_old: Array
+    cp: Array
+    cq: Array
+    c2p: Array
+    c2q: Array
 
-    def W(a, b, on=True):
-        return jnp.where(on, w[a, b], 0.0)
 
+def places(plan: Plan, perm: Array, v: path_ops.View) -> Places:
+    """The :class:`Places` of ``plan`` (read from the view's running neighbours)."""
+    n = perm.shape[0]
     # the obstacle leaves: position r between its touched neighbours p and q
     r = plan.j + 1
     was = pick(v.touched, r) & (n > 0)
@@ -111,10 +118,36 @@ def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array,
     p2 = jnp.where(p2 == r, p, p2)
     q2 = pick(v.nxt, p2)
     q2 = jnp.where(q2 == r, q, q2)
-    c_old, cp, cq, c2p, c2q = (pick(v.ids, x) for x in (r, p, q, p2, q2))
     o = pick(perm, plan.j) if n else jnp.int32(0)
     c_new = circle_ids.obstacle(o, circle_ids.side(plan.label))
-    enters = (plan.label != 0) & (n > 0)
+    return Places(r, was, p, q, p2, q2, (plan.label != 0) & (n > 0), c_new,
+                  *(pick(v.ids, x) for x in (r, p, q, p2, q2)))
+
+
+def change(plan: Plan, perm: Array, labels: Array, v: path_ops.View, w: Array,
+           arcs: Array | None = None, arc_penalty: Array | float = 0.0,
+           at: Places | None = None) -> Array:
+    """:func:`leg_score` of the chromosome ``plan`` makes minus that of ``(perm,
+    labels)`` (``v``: its :func:`path_ops.view`; ``w``: :func:`weights`; ``at``: the
+    plan's :func:`places`, if made already), from the legs the plan removes and adds:
+    the obstacle at position ``j`` leaves its place between its touched neighbours (if
+    it was touched) and enters its new one (if its label is not 0); a flipped end
+    changes its one leg. Both sums are formed in one order, so a plan that changes
+    nothing scores 0. Every place is read from the view's running neighbours, a few
+    look-ups per candidate whatever the length of the path. ``plan`` may hold several
+    candidates along leading axes of its own (scored side by side).
+
+    With ``arcs`` (:func:`hga_jax.model.legs.arcs_from_turns`), the moved obstacle's
+    arc counts too: ``arc_penalty`` more where its arc at the new place has a violation
+    of its own, less where its arc at the old place had one (its neighbours' arcs,
+    which change as well, are not read)."""
+    at = places(plan, perm, v) if at is None else at
+
+    def W(a, b, on=True):
+        return jnp.where(on, w[a, b], 0.0)
+
+    c_old, cp, cq, c2p, c2q = at.c_old, at.cp, at.cq, at.c2p, at.c2q
+    was, enters, c_new = at.was, at.enters, at.c_new
     # an end flipped: its one leg (circles flip by their last bit); the four legs are
     # looked up once per chromosome, not per candidate (per candidate they cost 3.2 of
     # the 8.3 ms of view, plans and scores of 1,000 runs x 50 at 9 obstacles)
@@ -138,10 +171,11 @@ WORDS = PER_MOVE * sum(count for _, count in path_ops.PLAN_WORDS)
 """Random words (uint32) one guided move reads: its candidates', in :data:`PLANS` order."""
 
 
-def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
-    """The candidate move (``PER_MOVE`` of each of :data:`MOVES`, in that order, each
-    from its own words of ``w``, :data:`WORDS` in all) whose :func:`change` of the leg
-    score is the smallest (the first of equals).
+def candidates(w: Array, perm: Array, labels: Array, legs):
+    """The guided move's candidates and their scores: ``(plans, places, scores, view,
+    weights)``, the plans (:class:`~hga_jax.search.path_ops.Plan`) stacked along a
+    leading axis of candidates (``PER_MOVE`` of each of :data:`MOVES`, in that order,
+    each from its own words of ``w``, :data:`WORDS` in all), scored by :func:`change`.
 
     The chromosome's :func:`~hga_jax.search.path_ops.view` is made once; a move's
     candidates are planned side by side (a leading axis of ``PER_MOVE``), and the ten
@@ -158,9 +192,23 @@ def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array
         at += PER_MOVE * count
     wt = weights(legs)
     stacked = Plan(*(jnp.concatenate(field) for field in zip(*plans)))  # (candidates, ...)
-    arcs = legs.arcs if legs.arc_share is not None else None  # the GA sets the share
-    scores = change(stacked, perm, labels, v, wt, arcs,
-                    legs.penalty * legs.arc_share if arcs is not None else 0.0)
+    where = places(stacked, perm, v)
+    arcs, charge = arc_terms(legs)
+    return stacked, where, change(stacked, perm, labels, v, wt, arcs, charge, where), v, wt
+
+
+def arc_terms(legs):
+    """``(arcs, arc_penalty)`` of :func:`change` for ``legs``: the arcs table and the
+    share of the penalty the GA set (``guided_arcs``), or ``(None, 0.0)``."""
+    if legs.arc_share is None:
+        return None, 0.0
+    return legs.arcs, legs.penalty * legs.arc_share
+
+
+def guided_one(w: Array, perm: Array, labels: Array, legs) -> tuple[Array, Array]:
+    """The candidate move (:func:`candidates`) whose :func:`change` of the leg score is
+    the smallest (the first of equals), made."""
+    stacked, _, scores, _, _ = candidates(w, perm, labels, legs)
     best = first_min(scores)
     return path_ops.apply(perm, labels, Plan(*(pick(field, best) for field in stacked)))
 

@@ -207,6 +207,8 @@ BUILTINS = (
       for name in ("flip", "drop", "insert", "shift", "repair", "mixed")),
     ("path_mutation", "guided", "guided", "guided", "guided_from_words",
      lambda n, s: _module("guided").WORDS),
+    ("path_mutation", "guided_pairs", "guided_pairs", "guided_pairs", "guided_pairs_from_words",
+     lambda n, s: _module("guided_pairs").WORDS),
     ("leg_crossover", "two_point", "leg_ops", "two_point", None, None),
     ("leg_mutation", "redraw", "leg_ops", "redraw", "redraw_from_words", lambda n, s: n + 2),
     ("end_mutation", "none", "end_ops", "keep", None, None),

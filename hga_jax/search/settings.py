@@ -480,7 +480,7 @@ PAPER = GASettings()
 """The paper's HGA (section 4): the defaults of :class:`GASettings`."""
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
-                         path_mutation="guided", pm_path=1.0, seeding=1.0, seeding_via=0.75,
+                         path_mutation="guided_pairs", pm_path=1.0, seeding=1.0, seeding_via=0.75,
                          restart_via=1.0, wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
                          islands=5, migrate_every=4, penalty_weight=10.0, generations_per_obstacle=24,
                          reversing_budget=3, ends_of_best=2,
@@ -488,7 +488,8 @@ RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
 new legs pass through fewer obstacles), one guided path move per child (the
-best of ten candidate moves by their legs and the moved obstacle's arc), tournament
+best of ten candidate moves, each also with one of the moved obstacle's neighbours
+turned the other way, by their legs and arcs), tournament
 selection within five islands of ten, 2 elites each, the best of each island to the
 next every 4 generations, restarts of runs stalled for 12 generations (every seed of
 a restart via a random obstacle where the run's best path collides), ten times the
