@@ -440,7 +440,8 @@ def test_preset_paper_reproduces_the_papers_settings_and_is_recorded(tmp_path):
     assert docs["recommended"]["preset"] == "recommended"
     # result.json holds the settings the runs used (the budget rule resolved) and the rule
     assert docs["recommended"]["settings"] == {**dataclasses.asdict(RECOMMENDED), "generations": 2,
-                                               "generations_per_obstacle": 0, "car": "dubins"}
+                                               "generations_per_obstacle": 0, "car": "dubins",
+                                               "path_mutation": "guided", "pairs_from": 0}
     assert docs["recommended"]["budget"] == {
         "rule": "generations = 2 + 24 * max(0, n - 9)", "obstacles": 1, "generations": 2,
         "evaluations_per_run": 50 * 3}

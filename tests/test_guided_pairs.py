@@ -166,3 +166,25 @@ def test_the_ga_reads_the_guided_moves_words():
 
     op = registry.entry("path_mutation", "guided_pairs")
     assert op.rows(9, RECOMMENDED) == guided_pairs.WORDS == guided.WORDS == 26
+
+
+def test_the_pairs_start_beyond_pairs_from_obstacles():
+    """``pairs_from``: on fewer obstacles ``guided_pairs`` resolves to the guided move
+    (the recommended preset: up to 9 obstacles, where it bought nothing measurable),
+    from there on it stays; resolving again changes nothing; 0 keeps it everywhere."""
+    import dataclasses
+
+    from hga_jax.errors import ConfigError
+    from hga_jax.search.settings import PAPER, RECOMMENDED, GASettings
+
+    assert RECOMMENDED.path_mutation == "guided_pairs" and RECOMMENDED.pairs_from == 10
+    for n, want in ((0, "guided"), (9, "guided"), (10, "guided_pairs"), (40, "guided_pairs")):
+        s = RECOMMENDED.for_obstacles(n)
+        assert s.path_mutation == want and s.for_obstacles(n) == s
+        assert s.generations == RECOMMENDED.generations + 24 * max(0, n - 9)
+    assert RECOMMENDED.for_obstacles(9).pairs_from == 0
+    always = dataclasses.replace(RECOMMENDED, pairs_from=0)
+    assert always.for_obstacles(5).path_mutation == "guided_pairs"
+    assert PAPER.for_obstacles(5).path_mutation == "none"
+    with pytest.raises(ConfigError, match=r"ga\.pairs_from: must be >= 0"):
+        GASettings.from_mapping({"pairs_from": -1}, "x.toml", prefix="ga")

@@ -46,7 +46,7 @@ def test_presets_and_their_budget():
                        "seeding_via", "restart_via", "wrap_clearer", "guided_arcs", "restart_after", "islands",
                        "migrate_every",
                        "penalty_weight",
-                       "generations_per_obstacle", "reversing_budget",
+                       "generations_per_obstacle", "reversing_budget", "pairs_from",
                        "ends_of_best", "straight_of_best", "tight_of_best"}
 
 

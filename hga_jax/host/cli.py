@@ -74,6 +74,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
                                              "(0: a fixed count)")),
     "reversing_budget": (int, None, ("times the generations for a car that also drives "
                                      "backward (1: as the forward car)")),
+    "pairs_from": (int, None, ("fewest obstacles on which the guided_pairs path move turns "
+                               "neighbours (fewer: the guided move; 0: always)")),
     "pc_upper": (float, None, "crossover probability per pair of parents, permutation"),
     "pm_upper": (float, None, "mutation probability per individual, permutation"),
     "pc_lower": (float, None, "crossover probability per pair of parents, labels"),

@@ -62,6 +62,9 @@ runner does, and records the rule in ``result.json``). 0 (the paper): a fixed co
 ``reversing_budget = m``: a car that also drives backward (a car model that
 ``reverses``, the Reeds–Shepp car) makes ``m`` times those generations (its chromosome
 is larger: leg genes with gears, end moves); 1 (the paper): as the forward car.
+``pairs_from = k``: ``path_mutation = "guided_pairs"`` on fewer than ``k`` obstacles is
+the plain ``"guided"`` move (resolved by :meth:`GASettings.for_obstacles`, recorded in
+``result.json``); 0: on every scene.
 
 ``turns``: the car model the GA searches (:mod:`hga_jax.model.car_model`, the object
 :attr:`GASettings.model`). ``"tight-rope"`` (the paper's): the chromosome is the
@@ -179,6 +182,7 @@ class GASettings:
     migrate_every: int = 0
     generations_per_obstacle: int = 0
     reversing_budget: int = 1
+    pairs_from: int = 0
     turns: str = car_model.DEFAULT
     leg_crossover: str = "two_point"
     leg_mutation: str = "redraw"
@@ -214,7 +218,10 @@ class GASettings:
         0 and, where it was applied, ``reversing_budget`` 1 (resolved; resolving again
         changes nothing). Resolve the car first (:meth:`for_car`): for the forward car the
         factor is kept, unapplied, so that settings resolved for the car later still
-        apply it."""
+        apply it. ``path_mutation = "guided_pairs"`` on fewer than ``pairs_from``
+        obstacles becomes ``"guided"`` (``pairs_from`` then 0)."""
+        if self.path_mutation == "guided_pairs" and int(n) < self.pairs_from:
+            return dataclasses.replace(self, path_mutation="guided", pairs_from=0).for_obstacles(n)
         m = self._times()
         if not self.generations_per_obstacle and m == 1:
             return self
@@ -262,7 +269,8 @@ class GASettings:
                 if f.name in MODEL_FIELDS and f.name not in used}
         return dataclasses.replace(
             self, **{k: 0.0 for k in SHARES}, penalty_weight=1.0, generations=0,
-            generations_per_obstacle=0, reversing_budget=1, seeding=float(self.seeding > 0),
+            generations_per_obstacle=0, reversing_budget=1, pairs_from=0,
+            seeding=float(self.seeding > 0),
             restart_after=int(self.restart_after > 0), migrate_every=int(self.migrate_every > 0),
             **idle)
 
@@ -348,7 +356,7 @@ class GASettings:
 
         for key in ("population", "generations", "tournament_size", "elites", "restart_after",
                     "islands", "migrate_every", "generations_per_obstacle", "reversing_budget",
-                    "ends_of_best", "straight_of_best", "tight_of_best"):
+                    "pairs_from", "ends_of_best", "straight_of_best", "tight_of_best"):
             v = getattr(self, key)
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad(key, f"must be an integer, got {v!r}")
@@ -378,6 +386,8 @@ class GASettings:
         if self.reversing_budget < 1:
             raise bad("reversing_budget", f"must be >= 1 (1: as the forward car), "
                       f"got {self.reversing_budget}")
+        if self.pairs_from < 0:
+            raise bad("pairs_from", f"must be >= 0 (0: on every scene), got {self.pairs_from}")
         if self.restart_after < 0:
             raise bad("restart_after", f"must be >= 0 (0: never), got {self.restart_after}")
         if self.migrate_every < 0:
@@ -483,13 +493,13 @@ RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided_pairs", pm_path=1.0, seeding=1.0, seeding_via=0.75,
                          restart_via=1.0, wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
                          islands=5, migrate_every=4, penalty_weight=10.0, generations_per_obstacle=24,
-                         reversing_budget=3, ends_of_best=2,
+                         reversing_budget=3, pairs_from=10, ends_of_best=2,
                          straight_of_best=1, tight_of_best=1)
 """hga-jax's recommended HGA: the paper's operators and rates, plus generation 0 and
 restarts seeded by wrapping blocking obstacles (three wraps in four round the side whose
 new legs pass through fewer obstacles), one guided path move per child (the
-best of ten candidate moves, each also with one of the moved obstacle's neighbours
-turned the other way, by their legs and arcs), tournament
+best of ten candidate moves by their legs and arcs, beyond 9 obstacles each also with
+one of the moved obstacle's neighbours turned the other way), tournament
 selection within five islands of ten, 2 elites each, the best of each island to the
 next every 4 generations, restarts of runs stalled for 12 generations (every seed of
 a restart via a random obstacle where the run's best path collides), ten times the
