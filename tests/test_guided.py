@@ -196,6 +196,19 @@ def test_the_population_form_moves_each_chromosome_as_it_moves_alone(path):
     assert (np.asarray(got[3]) != labels).any()  # and so did the wraps
 
 
+def arc_violated(arcs, p, lab, o):
+    """1 where obstacle ``o`` is touched by the chromosome ``(p, lab)`` and its arc (between
+    its touched neighbours) has a violation of its own in the turn table ``arcs``."""
+    ids, touched = (np.asarray(x) for x in path_ops.path_circles(jnp.asarray(p),
+                                                                 jnp.asarray(lab)))
+    at = int(np.flatnonzero(np.asarray(p) == o)[0]) + 1
+    on = list(np.flatnonzero(touched))
+    if at not in on:
+        return 0
+    k = on.index(at)
+    return int(arcs[ids[on[k - 1]], ids[at], ids[on[k + 1]]])
+
+
 @pytest.mark.parametrize("plan", path_ops.PLANS, ids=lambda f: f.__name__)
 def test_the_arc_term_is_the_moved_obstacles_arc_where_it_leaves_and_enters(plan):
     """``guided_arcs``: with the arcs table a plan's change gains ``arc_penalty`` where the
@@ -219,15 +232,8 @@ def test_the_arc_term_is_the_moved_obstacles_arc_where_it_leaves_and_enters(plan
                     pl, path_ops.apply(p, lab, pl))
         plain, scored, plans, (mp, ml) = jax.jit(jax.vmap(one))(keys, perm, labels)
 
-    def arc(p, lab, o):  # 1 where obstacle o is touched and its arc has a violation
-        ids, touched = (np.asarray(x) for x in path_ops.path_circles(jnp.asarray(p),
-                                                                     jnp.asarray(lab)))
-        at = int(np.flatnonzero(np.asarray(p) == o)[0]) + 1
-        on = list(np.flatnonzero(touched))
-        if at not in on:
-            return 0
-        k = on.index(at)
-        return int(arcs[ids[on[k - 1]], ids[at], ids[on[k + 1]]])
+    def arc(p, lab, o):
+        return arc_violated(arcs, p, lab, o)
 
     extra = np.asarray(scored) - np.asarray(plain)
     ends = np.asarray(plans.end) >= 0

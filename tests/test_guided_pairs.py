@@ -10,16 +10,9 @@ import pytest
 from hga_jax.host.config import load_scenario
 from hga_jax.search import guided, guided_pairs, path_ops, registry, rng
 from hga_jax.search.path_ops import Plan
+from test_guided import _random, arc_violated
 
 SCENE = "configs/scenarios/overlapping.toml"  # overlapping circles: arcs with violations
-
-
-def _random(n, count, seed):
-    r = np.random.default_rng(seed)
-    perm = np.stack([r.permutation(n) for _ in range(count)]).astype(np.int32)
-    labels = (r.integers(-1, 2, size=(count, n + 2)) * (r.random((count, n + 2)) < 0.4))
-    labels[:, 0], labels[:, -1] = r.choice([-1, 1], count), r.choice([-1, 1], count)
-    return perm, labels.astype(np.int32)
 
 
 def _legs(dtype=np.float64):
@@ -82,15 +75,8 @@ def test_a_versions_arc_terms_are_the_moved_and_the_flipped_circles_arcs(plan):
             return scored - plain, on, made, alone, pl, x0, x1
         extra, on, made, alone, plans, *sides = jax.jit(jax.vmap(one))(keys, perm, labels)
 
-    def arc(p, lab, o):  # 1 where obstacle o is touched and its arc has a violation
-        ids, touched = (np.asarray(x) for x in path_ops.path_circles(jnp.asarray(p),
-                                                                     jnp.asarray(lab)))
-        at = int(np.flatnonzero(np.asarray(p) == o)[0]) + 1
-        on_ = list(np.flatnonzero(touched))
-        if at not in on_:
-            return 0
-        k = on_.index(at)
-        return int(arcs[ids[on_[k - 1]], ids[at], ids[on_[k + 1]]])
+    def arc(p, lab, o):
+        return arc_violated(arcs, p, lab, o)
 
     checked = changed = 0
     for i in range(len(perm)):
