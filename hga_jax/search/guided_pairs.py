@@ -58,10 +58,9 @@ def flips(plan: Plan, at: Places, labels: Array, v: path_ops.View, w: Array,
           before: Array | None = None) -> tuple[Array, Array]:
     """For each candidate and each of :data:`SIDES`: the change of the leg score that
     turning that neighbour adds to the candidate's own (``inf`` for a candidate that
-    moves nothing or flips an end itself), and the
-    chromosome position that neighbour takes in the candidate's chromosome (the plan's
-    ``end``): two arrays (2, candidates, ...). ``before``: :func:`prev_ids` of ``v``,
-    if made already."""
+    moves nothing or flips an end itself), and the chromosome position that neighbour
+    takes in the candidate's chromosome (the plan's ``end``): two arrays (2,
+    candidates, ...). ``before``: :func:`prev_ids` of ``v``, if made already."""
     s = labels.shape[0]
     before = prev_ids(v) if before is None else before
     enters = at.enters
