@@ -54,15 +54,14 @@ def prev_ids(v: path_ops.View) -> Array:
 
 
 def flips(plan: Plan, at: Places, labels: Array, v: path_ops.View, w: Array,
-          arcs: Array | None = None, arc_penalty: Array | float = 0.0,
-          before: Array | None = None) -> tuple[Array, Array]:
+          arcs: Array | None = None, arc_penalty: Array | float = 0.0) -> tuple[Array, Array]:
     """For each candidate and each of :data:`SIDES`: the change of the leg score that
     turning that neighbour adds to the candidate's own (``inf`` for a candidate that
     moves nothing or flips an end itself), and the chromosome position that neighbour
     takes in the candidate's chromosome (the plan's ``end``): two arrays (2,
-    candidates, ...). ``before``: :func:`prev_ids` of ``v``, if made already."""
+    candidates, ...)."""
     s = labels.shape[0]
-    before = prev_ids(v) if before is None else before
+    before = prev_ids(v)
     enters = at.enters
     x0, x1 = jnp.where(enters, at.p2, at.p), jnp.where(enters, at.q2, at.q)
     c0, c1 = jnp.where(enters, at.c2p, at.cp), jnp.where(enters, at.c2q, at.cq)
