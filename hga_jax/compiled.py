@@ -48,14 +48,19 @@ def folder() -> str | None:
     return _FOLDER[0]
 
 
-def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True) -> Any:
+def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True,
+            options: dict[str, Any] | None = None) -> Any:
     """The compiled program for ``key``; ``lower()`` returns the ``jax.stages.Lowered``
     to compile when none is kept. ``key`` must determine the program: a tuple of
     values whose ``repr`` is stable across processes (numbers, strings, shapes,
-    frozen settings). ``disk=False`` keeps it in memory only."""
+    frozen settings). ``disk=False`` keeps it in memory only. ``options``: XLA
+    compiler options of this program (part of its key), e.g.
+    :data:`hga_jax.jax_compat.SEARCH_COMPILER_OPTIONS`."""
     import jax
 
-    text = repr((key, jax.config.jax_enable_x64, jax.config.jax_threefry_partitionable))
+    options = dict(options or {})
+    text = repr((key, jax.config.jax_enable_x64, jax.config.jax_threefry_partitionable)
+                + ((tuple(sorted(options.items())),) if options else ()))
     found = _RECENT.pop(text, None)
     path, way = None, "reused"
     if found is None:
@@ -65,7 +70,7 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True) -> Any:
             path = os.path.join(_FOLDER[0], name + ".jaxprog")
             found = _load(path)
         if found is None:
-            found, way = lower().compile(), "compiled"
+            found, way = _compile(lower, options), "compiled"
             if path is not None and not _jax_cache_on():
                 _store(path, found)
     kind = key[0] if key and isinstance(key[0], str) else "program"
@@ -75,6 +80,19 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True) -> Any:
     while len(_RECENT) > _RECENT_KEEP:
         _RECENT.pop(next(iter(_RECENT)))
     return found
+
+
+def _compile(lower: Callable[[], Any], options: dict[str, Any]) -> Any:
+    """``lower().compile()`` with the compiler ``options``; where this XLA does not know
+    one of them ("No such compile option"), without them."""
+    if not options:
+        return lower().compile()
+    try:
+        return lower().compile(compiler_options=options)
+    except Exception as e:  # JAX's runtime error of an unknown option
+        if "No such compile option" not in str(e):
+            raise
+        return lower().compile()
 
 
 def enable_compilation_cache(path: str | None = None,

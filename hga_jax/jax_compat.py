@@ -13,7 +13,9 @@ Python 3.12) is a change of this file, checked by ``tests/test_rng.py``
   named ``vmap`` axis, or the run's own flag when there is no batch);
 - :func:`static_pytree`: a hashable settings class as a pytree without leaves;
 - :func:`save_executable` / :func:`load_executable`: a compiled program as bytes and
-  back (``jax.experimental.serialize_executable``), for :mod:`hga_jax.compiled`.
+  back (``jax.experimental.serialize_executable``), for :mod:`hga_jax.compiled`;
+- :func:`search_compiler_options`: the XLA options the GA's search is compiled with
+  (an option of this XLA's CPU backend; an XLA without it compiles with its defaults).
 """
 from __future__ import annotations
 
@@ -23,8 +25,8 @@ import jax
 import jax.numpy as jnp
 from jax.extend.random import define_prng_impl
 
-__all__ = ["RUNS", "any_run", "define_prng_impl", "fixed_stream", "load_executable",
-           "save_executable", "static_pytree"]
+__all__ = ["RUNS", "SEARCH_COMPILER_OPTIONS", "any_run", "define_prng_impl", "fixed_stream",
+           "load_executable", "save_executable", "search_compiler_options", "static_pytree"]
 
 RUNS = "runs"
 """The name of the ``vmap`` axis over the runs of a batch (``jax.vmap(..., axis_name=RUNS)``)."""
@@ -80,3 +82,18 @@ def load_executable(payload, in_tree, out_tree, device_ids):
     by_id = {d.id: d for d in jax.local_devices()}
     return serialize_executable.deserialize_and_load(
         payload, in_tree, out_tree, execution_devices=[by_id[i] for i in device_ids])
+
+
+SEARCH_COMPILER_OPTIONS = {"xla_cpu_use_fusion_emitters": False}
+"""XLA options of the GA's compiled search on the CPU where the runner asks for them
+(``_compiler_options`` of :mod:`hga_jax.running.runner`: small scenes): XLA's older loop
+emitters instead of its fusion emitters, which compile the bundled scene's program in
+about 1 s less. An option of this XLA; where it is unknown the program compiles with
+the defaults (:func:`hga_jax.compiled.program`)."""
+
+
+def search_compiler_options() -> dict:
+    """:data:`SEARCH_COMPILER_OPTIONS` on the CPU backend, none on others (for
+    :func:`hga_jax.compiled.program`, which compiles without them where this XLA
+    does not know them)."""
+    return dict(SEARCH_COMPILER_OPTIONS) if jax.default_backend() == "cpu" else {}

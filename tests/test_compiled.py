@@ -181,3 +181,17 @@ def test_configurations_differing_in_rates_run_one_program(folder, monkeypatch):
     for x, y in ((rb.perm, alone.perm), (rb.labels, alone.labels), (rb.length, alone.length)):
         np.testing.assert_array_equal(x, y)
     assert not np.array_equal(ra.labels, rb.labels)  # and b's rates were b's
+
+
+def test_compiler_options_make_another_program_and_an_unknown_one_is_dropped(folder):
+    x = np.linspace(0, 1, 5, dtype=np.float32)
+    plain, emitters = Counted(3.0), Counted(3.0)
+    compiled.program(("options", 3.0), plain)
+    got = compiled.program(("options", 3.0), emitters,
+                           options={"xla_cpu_use_fusion_emitters": False})(x)
+    assert plain.calls == 1 and emitters.calls == 1  # options are part of the key
+    np.testing.assert_allclose(np.asarray(got), np.sin(x) * 3.0, rtol=1e-6)
+    unknown = Counted(2.0)  # an XLA without the option: compiled with its defaults
+    got = compiled.program(("options", 2.0), unknown, options={"xla_cpu_no_such_option": True})(x)
+    assert unknown.calls == 2
+    np.testing.assert_allclose(np.asarray(got), np.sin(x) * 2.0, rtol=1e-6)
