@@ -148,7 +148,8 @@ def test_documents_link_inside_the_repository():
 
 
 NUMBERS = {w: i for i, w in enumerate(
-    "zero one two three four five six seven eight nine ten eleven twelve".split())}
+    "zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen"
+    .split())}
 
 
 def test_the_documents_count_and_list_the_bundled_studies():
