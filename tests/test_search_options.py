@@ -34,6 +34,13 @@ def test_small_forward_scenes_with_a_turn_table_get_the_options():
     assert runner._compiler_options(st, sa._replace(turns_full=None)) == {}
 
 
+def test_a_users_operator_keeps_the_defaults(registries):
+    from hga_jax.search import registry
+    registry.register("perm_mutation", "my_swap", registry.get("perm_mutation", "exchange"))
+    sc = load_scenario(ROBOCUP)
+    assert _options(sc, "paper", perm_mutation="my_swap")[0] == {}
+
+
 @pytest.mark.parametrize("name", sorted(JOBS))
 def test_runs_with_the_options_are_the_default_programs_runs(name, monkeypatch):
     sc = load_scenario(ROBOCUP)

@@ -295,8 +295,9 @@ def _gathered(found: _Found, runs: int) -> _Found:
 
 def _compiler_options(settings, sa) -> dict:
     """XLA options of a batch's program (:func:`hga_jax.jax_compat.search_compiler_options`):
-    on fewer than ``budget.LARGE_N`` obstacles where the fitness reads a turn table and the
-    car only drives forward; none otherwise.
+    on fewer than ``budget.LARGE_N`` obstacles where the fitness reads a turn table, the
+    car only drives forward and every operator and the car model are built in (the
+    measurements below are theirs); none otherwise.
 
     Measured (2026-12-06, 2 cores, 1,000 runs, the same evaluations, programs timed
     alternately in one process): the bundled scene's recommended program compiles in
@@ -311,7 +312,8 @@ def _compiler_options(settings, sa) -> dict:
     table = sa.turns_free if genes else (sa.turns_full if settings.collision == "full"
                                          else sa.turns_paper)
     reversing = genes and sa.free_legs is not None and sa.free_legs.cusps is not None
-    if table is None or reversing or sa.centres.shape[0] >= budget.LARGE_N:
+    if (table is None or reversing or sa.centres.shape[0] >= budget.LARGE_N
+            or not registry.builtin_only(settings)):
         return {}
     return jax_compat.search_compiler_options()
 
