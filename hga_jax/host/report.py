@@ -68,7 +68,7 @@ def _extras(st: GASettings) -> str:
                        f"straight legs, {moved}")
     if st.path_mutation != "none":
         arcs = (f", arcs at {pct(st.guided_arcs)} of the penalty"
-                if st.path_mutation.startswith("guided") and st.guided_arcs > 0 and st.counts_wrap_sides
+                if st.path_mutation in ("guided", "guided_pairs") and st.guided_arcs > 0 and st.counts_wrap_sides
                 else "")
         out.append(f"path move {st.path_mutation} (pm {st.pm_path:g}{arcs})")
     if st.seeding > 0:

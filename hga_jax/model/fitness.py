@@ -105,18 +105,23 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
     return length + row[:, 0], (viol + row[:, 1]).astype(jnp.int32)
 
 
+def turn_table(sa: ScenarioArrays, collision: str = "full", genes: bool = False):
+    """``(table, reversing)``: the turn table :func:`evaluate` reads for chromosomes with
+    leg genes (``genes``) or without, None where it decodes leg by leg; and whether the
+    legs are a reversing car's (their cusps counted)."""
+    if genes:
+        return sa.turns_free, sa.free_legs is not None and sa.free_legs.cusps is not None
+    return (sa.turns_full if collision == "full" else sa.turns_paper), False
+
+
 def evaluate(sa: ScenarioArrays, perm, labels, collision: str = "full", legs=None) -> Evaluation:
     """Evaluate a batch ``perm`` (B, n), ``labels`` (B, n + 2) (and, under free turns,
     positional leg genes ``legs`` (B, n + 2), the full rule only). Pure, jit/vmap-able."""
-    if legs is not None:
-        table = sa.turns_free
-    else:
-        table = sa.turns_full if collision == "full" else sa.turns_paper
+    table, reversing = turn_table(sa, collision, legs is not None)
     if table is None:
         d = decode_batch(sa, perm, labels, collision, legs)
         length, violations = d.length, d.violations
     else:
-        reversing = legs is not None and sa.free_legs.cusps is not None
         variants = 1 if legs is None else sa.free_legs.p1x.shape[0]
         length, violations = looked_up(table, sa.tangents.circles.shape[0], perm, labels, legs,
                                        variants, reversing)

@@ -25,6 +25,7 @@ from hga_jax import compiled, jax_compat, validation
 from hga_jax.running import budget
 from hga_jax.errors import Interrupted
 from hga_jax.model.exact import solve
+from hga_jax.model.fitness import turn_table
 from hga_jax.search import ga, registry, rng, run_keys
 from hga_jax.search.ga import Record
 from hga_jax.running.progress import bar as bar_of, tick
@@ -308,10 +309,7 @@ def _compiler_options(settings, sa) -> dict:
     bits with and without them (runs and histories side by side on 284 scene, preset and
     car-model cases at 9 to 40 obstacles); a path decoded leg by leg, or a reversing
     car's, computes lengths the two emitters round differently in the last bit."""
-    genes = bool(settings.model.genes)
-    table = sa.turns_free if genes else (sa.turns_full if settings.collision == "full"
-                                         else sa.turns_paper)
-    reversing = genes and sa.free_legs is not None and sa.free_legs.cusps is not None
+    table, reversing = turn_table(sa, settings.collision, bool(settings.model.genes))
     if (table is None or reversing or sa.centres.shape[0] >= budget.LARGE_N
             or not registry.builtin_only(settings)):
         return {}

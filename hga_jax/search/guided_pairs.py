@@ -27,14 +27,13 @@ as :mod:`hga_jax.search.guided`; pure, jit- and vmap-able.
 """
 from __future__ import annotations
 
-import jax
 import jax.numpy as jnp
 from jax import Array
 
 from . import guided, path_ops
 from .guided import Places
 from .path_ops import Plan
-from .permutation import pick
+from .permutation import pick, take
 
 WORDS = guided.WORDS
 """Random words one move reads: the guided move's (the versions draw none)."""
@@ -42,15 +41,6 @@ SIDES = ("before", "after")
 """The neighbours that a candidate's versions turn, in their order: the touched circle
 before the moved obstacle's new place and the one after it (for a candidate that only
 drops its obstacle, before and after the place it left)."""
-
-
-def prev_ids(v: path_ops.View) -> Array:
-    """Per position the circle of the last touched position before it (the start's
-    for the start itself): one pass from the start, across any batch."""
-    def ahead(last, k):
-        return jnp.where(v.touched[k], v.ids[k], last), last
-
-    return jax.lax.scan(ahead, v.ids[0], jnp.arange(v.ids.shape[0]))[1]
 
 
 def flips(plan: Plan, at: Places, labels: Array, v: path_ops.View, w: Array,
@@ -61,7 +51,7 @@ def flips(plan: Plan, at: Places, labels: Array, v: path_ops.View, w: Array,
     takes in the candidate's chromosome (the plan's ``end``): two arrays (2,
     candidates, ...)."""
     s = labels.shape[0]
-    before = prev_ids(v)
+    before = take(v.ids, v.prev)  # per position the circle of the last touched one before it
     enters = at.enters
     x0, x1 = jnp.where(enters, at.p2, at.p), jnp.where(enters, at.q2, at.q)
     c0, c1 = jnp.where(enters, at.c2p, at.cp), jnp.where(enters, at.c2q, at.cq)
