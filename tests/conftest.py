@@ -22,13 +22,14 @@ os.environ["HGA_JAX_CACHE_DIR"] = os.environ["HGA_JAX_TEST_CACHE"]
 
 
 # The default lane (not the slow studies or the benchmarks, which search far more than
-# they compile) builds its programs with XLA's backend optimisation level 0: LLVM then
-# skips its optimisation passes, a third of a compile, and the lane's programs search
-# more slowly. The searches are the same bits, as measured (XLA stops fusing a multiply
-# and an add into one FMA instruction; no float32 step of a run changed, a float64
-# re-evaluated length may differ in its last bit): test_lane_programs.py checks it
-# against the level a user's program is built at. HGA_JAX_TEST_XLA_LEVEL=default (or
-# XLA_FLAGS naming a level) keeps the default.
+# they compile) builds its programs with XLA's backend optimisation level 0 (LLVM then
+# skips its optimisation passes) and XLA's loop emitters (as a user's search at fewer
+# than 15 obstacles is built, hga_jax.jax_compat.SEARCH_COMPILER_OPTIONS): together they
+# cut the lane's XLA compiles from about 210 to about 95 s of its workers' time, and the
+# lane's programs search more slowly. The searches are the same bits, as measured (no
+# float32 step of a run changed; a float64 re-evaluated length may differ in its last
+# bit): test_lane_programs.py checks it against the programs a user's process builds.
+# HGA_JAX_TEST_XLA_LEVEL=default (or XLA_FLAGS naming either flag) keeps the defaults.
 
 
 def _default_lane(config) -> bool:
@@ -38,8 +39,8 @@ def _default_lane(config) -> bool:
 def pytest_configure(config):
     flags = os.environ.get("XLA_FLAGS", "")
     if (_default_lane(config) and os.environ.get("HGA_JAX_TEST_XLA_LEVEL") != "default"
-            and _xla.LEVEL not in flags):
-        os.environ["XLA_FLAGS"] = f"{flags} {_xla.LANE_LEVEL}".strip()  # before JAX starts
+            and _xla.LEVEL not in flags and _xla.LOOP_EMITTERS not in flags):
+        os.environ["XLA_FLAGS"] = " ".join([flags, *_xla.LANE_FLAGS]).strip()  # before JAX starts
     from hga_jax.compiled import enable_compilation_cache
 
     enable_compilation_cache()  # as the command line does
