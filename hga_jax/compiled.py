@@ -58,6 +58,8 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True,
     :data:`hga_jax.jax_compat.SEARCH_COMPILER_OPTIONS`."""
     import jax
 
+    from hga_jax.jax_compat import compile_with_options
+
     options = dict(options or {})
     text = repr((key, jax.config.jax_enable_x64, jax.config.jax_threefry_partitionable)
                 + ((tuple(sorted(options.items())),) if options else ()))
@@ -70,7 +72,7 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True,
             path = os.path.join(_FOLDER[0], name + ".jaxprog")
             found = _load(path)
         if found is None:
-            found, way = _compile(lower, options), "compiled"
+            found, way = compile_with_options(lower, options), "compiled"
             if path is not None and not _jax_cache_on():
                 _store(path, found)
     kind = key[0] if key and isinstance(key[0], str) else "program"
@@ -80,19 +82,6 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True,
     while len(_RECENT) > _RECENT_KEEP:
         _RECENT.pop(next(iter(_RECENT)))
     return found
-
-
-def _compile(lower: Callable[[], Any], options: dict[str, Any]) -> Any:
-    """``lower().compile()`` with the compiler ``options``; where this XLA does not know
-    one of them ("No such compile option"), without them."""
-    if not options:
-        return lower().compile()
-    try:
-        return lower().compile(compiler_options=options)
-    except Exception as e:  # JAX's runtime error of an unknown option
-        if "No such compile option" not in str(e):
-            raise
-        return lower().compile()
 
 
 def enable_compilation_cache(path: str | None = None,

@@ -15,7 +15,8 @@ Python 3.12) is a change of this file, checked by ``tests/test_rng.py``
 - :func:`save_executable` / :func:`load_executable`: a compiled program as bytes and
   back (``jax.experimental.serialize_executable``), for :mod:`hga_jax.compiled`;
 - :func:`search_compiler_options`: the XLA options the GA's search is compiled with
-  (an option of this XLA's CPU backend; an XLA without it compiles with its defaults).
+  (an option of this XLA's CPU backend), and :func:`compile_with_options`, which
+  compiles with XLA's defaults where this XLA does not know an option (JAX's error text).
 """
 from __future__ import annotations
 
@@ -25,7 +26,8 @@ import jax
 import jax.numpy as jnp
 from jax.extend.random import define_prng_impl
 
-__all__ = ["RUNS", "SEARCH_COMPILER_OPTIONS", "any_run", "define_prng_impl", "fixed_stream",
+__all__ = ["RUNS", "SEARCH_COMPILER_OPTIONS", "any_run", "compile_with_options",
+           "define_prng_impl", "fixed_stream",
            "load_executable", "save_executable", "search_compiler_options", "static_pytree"]
 
 RUNS = "runs"
@@ -97,3 +99,16 @@ def search_compiler_options() -> dict:
     :func:`hga_jax.compiled.program`, which compiles without them where this XLA
     does not know them)."""
     return dict(SEARCH_COMPILER_OPTIONS) if jax.default_backend() == "cpu" else {}
+
+
+def compile_with_options(lower, options: dict):
+    """``lower().compile()`` with the XLA compiler ``options``; where this XLA does not
+    know one of them (JAX's runtime error "No such compile option"), without them."""
+    if not options:
+        return lower().compile()
+    try:
+        return lower().compile(compiler_options=options)
+    except Exception as e:  # JAX's runtime error of an unknown option
+        if "No such compile option" not in str(e):
+            raise
+        return lower().compile()
