@@ -43,7 +43,7 @@ def test_presets_and_their_budget():
     differs = {f.name for f in dataclasses.fields(GASettings)
                if getattr(PAPER, f.name) != getattr(RECOMMENDED, f.name)}
     assert differs == {"selection", "elites", "path_mutation", "pm_path", "seeding",
-                       "seeding_via", "restart_via", "wrap_clearer", "guided_arcs", "restart_after", "islands",
+                       "seeding_via", "restart_via", "restart_arcs", "wrap_clearer", "guided_arcs", "restart_after", "islands",
                        "migrate_every",
                        "penalty_weight",
                        "generations_per_obstacle", "reversing_budget", "pairs_from",

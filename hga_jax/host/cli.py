@@ -92,6 +92,8 @@ GA_FLAGS = {  # setting -> (type, choices, help); operator kinds: choices "regis
                     "through one random obstacle instead of the direct path"),
     "restart_via": (float, None, "in a restart of a run whose best path collides, that share "
                     "of the seeded individuals starts via a random obstacle too"),
+    "restart_arcs": (float, None, "in such a restart, that share of the seeded individuals "
+                     "also wraps the overlapping neighbours of its colliding arcs (tight rope)"),
     "wrap_clearer": (float, None, "share of the wraps (seeding, repair) that go round the "
                      "side whose two new legs pass through fewer obstacles (tight rope)"),
     "guided_arcs": (float, None, "share of the penalty the guided move's score adds for the "

@@ -449,13 +449,21 @@ def wrap_blockers(key: Array, perm: Array, labels: Array, legs, via=False) -> tu
     return wrap_from_words(_words(key, 3 * perm.shape[0]), perm, labels, legs, via)
 
 
-def wrap_from_words(words: Array, perm: Array, labels: Array, legs, via=False
+def wrap_from_words(words: Array, perm: Array, labels: Array, legs, via=False, arc_rule=None
                     ) -> tuple[Array, Array]:
     """:func:`wrap_blockers` from its ``3n`` words (3n, ...), for one chromosome or a
     batch after the positions (``perm`` (n, ...), ``labels`` (n + 2, ...), ``via`` a
     bool or one per chromosome). The steps stop once no chromosome has a blocked leg
     left: a later step would change nothing, so a chromosome ends alike alone and in
-    any batch."""
+    any batch.
+
+    ``arc_rule = (overlap, on)`` (``overlap`` (n, n) bools of obstacles whose model
+    circles overlap, ``on`` a bool per chromosome; the legs' ``arcs`` table needed): a
+    step of a chromosome that is ``on`` and has no blocked leg instead takes one of its
+    arcs with a violation of its own (``legs.arcs``; word 0) and puts an untouched
+    obstacle overlapping that arc's obstacle (word 1) right after it, with the same
+    label, so that the path follows a chain of overlapping circles round; the steps go
+    on while such an arc is left (at most ``n`` steps in all)."""
     n = perm.shape[0]
     keep = jnp.asarray(via) & (labels[1] != 0)
     labels = labels.at[1:-1].set(0).at[1].set(jnp.where(keep, labels[1], 0))
@@ -470,7 +478,24 @@ def wrap_from_words(words: Array, perm: Array, labels: Array, legs, via=False
         blocked = table[ids, nxt] & (pos <= count)
         plan, ok = _wrap(w, perm, labels, legs, ids, nxt, blocked)
         new = ok & (plan.j >= count)  # an untouched obstacle wrapped
-        return (t + 1, jnp.any(blocked), *apply(perm, labels, plan),
+        active = jnp.any(blocked)
+        if arc_rule is not None:
+            overlap, on = arc_rule
+            prv = jnp.concatenate([ids[:1], ids[:-1]])  # the touched circle before
+            inner = (pos >= 1) & (pos <= count)  # the touched obstacles' positions
+            bad = jnp.asarray(legs.arcs)[prv, ids, nxt] & inner & on & ~jnp.any(blocked, axis=0)
+            k, anybad = _choose(bad, w[0])
+            b = (pick(ids, k) - circle_ids.POSES) // 2  # the arc's obstacle
+            lab = pick(labels, k)
+            cand = (along(perm) >= count) & jnp.asarray(overlap)[b[None] if b.ndim else b, perm]
+            # its permutation position is k - 1: the obstacle goes to k, right after it
+            j, anyc = _choose(cand, w[1])
+            arc_ok = anybad & anyc
+            aplan = _relocation(j, k, lab, arc_ok, labels)
+            plan = Plan(*(jnp.where(arc_ok, x, y) for x, y in zip(aplan, plan)))
+            new = new | arc_ok
+            active = active | jnp.any(bad)
+        return (t + 1, active, *apply(perm, labels, plan),
                 count + new.astype(jnp.int32))
 
     init = (jnp.int32(0), jnp.asarray(True), perm, labels, keep.astype(jnp.int32))

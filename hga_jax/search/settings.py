@@ -32,6 +32,14 @@ fresh populations also try corridors that the direct path's blockers do not lead
 the seeded chromosomes (spread as ``seeding_via``'s, and those of both go) starts via an
 obstacle too, so a run stuck on a colliding path looks elsewhere (1: every seed; 0:
 restarts seed as generation 0 does).
+``restart_arcs``: in a restart of a run whose best path so far collides, that share of
+the seeded chromosomes (spread as ``seeding_via``'s) also sees arcs while it wraps: once
+no leg of a seed is blocked, an arc with a violation of its own (read from the turn
+table, as the guided move reads it) gets an untouched obstacle whose model circle
+overlaps the arc's obstacle, right after it and turning the same way, so the seed
+follows a chain of overlapping circles round to its end (per-arc information,
+:func:`hga_jax.search.path_ops.wrap_from_words`; the tight rope only, where there is a
+turn table; 0: seeds read legs only).
 ``wrap_clearer``: the share of wraps (seeding's, and the ``repair`` move's) that go
 round the side of the wrapped obstacle whose two new legs pass through fewer obstacles
 (per-leg information, :func:`hga_jax.search.path_ops._wrap`); the other wraps, and a
@@ -107,7 +115,7 @@ from hga_jax.model.collision import COLLISIONS
 
 LABEL_BINDINGS = ("position", "obstacle")
 SHARES = ("pc_upper", "pm_upper", "pc_lower", "pm_lower", "pm_path", "pc_legs", "pm_legs",
-          "pm_ends", "seeding_via", "restart_via", "wrap_clearer", "guided_arcs")
+          "pm_ends", "seeding_via", "restart_via", "wrap_clearer", "guided_arcs", "restart_arcs")
 """The :data:`RATES` that are probabilities or shares (float32 in the program)."""
 RATES = SHARES + ("penalty_weight", "seeding", "restart_after", "migrate_every")
 """Settings that are data of a compiled program, not its structure (:meth:`GASettings.rates`):
@@ -134,6 +142,7 @@ class Rates(NamedTuple):
     restart_via: Any
     wrap_clearer: Any
     guided_arcs: Any
+    restart_arcs: Any
     penalty_weight: Any
     seeded: Any
     restart_after: Any
@@ -175,6 +184,7 @@ class GASettings:
     seeding: float = 0.0
     seeding_via: float = 0.0
     restart_via: float = 0.0
+    restart_arcs: float = 0.0
     wrap_clearer: float = 0.0
     guided_arcs: float = 0.0
     restart_after: int = 0
@@ -491,7 +501,7 @@ PAPER = GASettings()
 
 RECOMMENDED = GASettings(selection="tournament", tournament_size=2, elites=2,
                          path_mutation="guided_pairs", pm_path=1.0, seeding=1.0, seeding_via=0.75,
-                         restart_via=1.0, wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
+                         restart_via=1.0, restart_arcs=1.0, wrap_clearer=0.75, guided_arcs=1.0, restart_after=12,
                          islands=5, migrate_every=4, penalty_weight=10.0, generations_per_obstacle=24,
                          reversing_budget=3, pairs_from=10, ends_of_best=2,
                          straight_of_best=1, tight_of_best=1)
@@ -502,7 +512,8 @@ best of ten candidate moves by their legs and arcs, beyond 9 obstacles each also
 one of the moved obstacle's neighbours turned the other way), tournament
 selection within five islands of ten, 2 elites each, the best of each island to the
 next every 4 generations, restarts of runs stalled for 12 generations (every seed of
-a restart via a random obstacle where the run's best path collides), ten times the
+a restart via a random obstacle where the run's best path collides, wrapping the
+overlapping neighbours of its colliding arcs too), ten times the
 paper's penalty per violation during the search, three times the generations for a car
 that reverses, two children per generation that
 move the best path's ends (the Reeds–Shepp car only), one that is the best path with straight legs (free turns and

@@ -154,7 +154,9 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     ``seeding_via`` share of them (spread over the population: :func:`spread`) start
     from a path through the first obstacle of their permutation, with its drawn label,
     and where ``colliding`` (a bool: the run restarts with a colliding best so far) the
-    ``restart_via`` share too (each spread by :func:`spread`; a seed in either goes).
+    ``restart_via`` share too (each spread by :func:`spread`; a seed in either goes);
+    there the ``restart_arcs`` share also wraps the overlapping neighbours of its
+    colliding arcs (:func:`hga_jax.search.path_ops.wrap_from_words`).
     Returns ``(perm, labels, legs)``, legs None under the tight rope."""
     perm = permutation.permutation_from_words(words[:n].T)
     labels = label_ops.labels_from_words(words[n:2 * n + 2].T)
@@ -170,11 +172,24 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     wrap_words = jax.vmap(lambda k: path_ops._words(k, 3 * n))(keys)  # (P, 3n)
     via = spread(perm.shape[0], settings.seeding_via) | (
         jnp.asarray(colliding) & spread(perm.shape[0], settings.restart_via))
-    sp, sl = path_ops.wrap_from_words(wrap_words.T, perm.T, pos.T, legs, via)  # population last
+    arc_rule = None
+    if settings.counts_wrap_sides and legs.arcs is not None:  # the tight rope's turn table
+        # restart_arcs (data: a share of 0 changes no seed)
+        arcs = jnp.asarray(colliding) & spread(perm.shape[0], settings.restart_arcs)
+        arc_rule = (overlapping(sa.centres, sa.model_radii), arcs)
+    sp, sl = path_ops.wrap_from_words(wrap_words.T, perm.T, pos.T, legs, via, arc_rule)  # population last
     sp, sl = sp.T, sl.T
     sl = bound(sp, sl, settings)
     on = (jnp.arange(perm.shape[0]) < settings.seeded_count())[:, None]  # each from its own column
     return jnp.where(on, sp, perm), jnp.where(on, sl, labels), genes
+
+
+def overlapping(centres, model_radii) -> Array:
+    """(n, n) bools: obstacles ``i != j`` whose model circles overlap (centres closer
+    than the sum of their model radii)."""
+    gap = centres[:, None] - centres[None]
+    near = jnp.sum(gap * gap, axis=-1) < (model_radii[:, None] + model_radii[None]) ** 2
+    return near & ~jnp.eye(centres.shape[0], dtype=bool)
 
 
 def spread(count: int, share) -> Array:
