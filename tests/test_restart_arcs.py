@@ -108,3 +108,16 @@ def test_the_rule_only_in_a_restart_whose_best_collides():
 def test_bad_restart_arcs_names_its_key(value):
     with pytest.raises(ConfigError, match=r"ga\.restart_arcs"):
         PAPER.replace("x.toml", restart_arcs=value)
+
+
+def test_the_summary_names_the_rule_where_it_applies():
+    from hga_jax.host.report import _extras
+
+    phrase = "100.00% of them also wrap the overlapping neighbours of their colliding arcs"
+    assert phrase in _extras(RECOMMENDED)
+    assert "in such a restart " + phrase in _extras(RECOMMENDED)
+    alone = _extras(RECOMMENDED.replace(restart_via=0.0))
+    assert "in a restart of a run whose best collides " + phrase in alone
+    for other in (PAPER, RECOMMENDED.replace(restart_arcs=0.0),
+                  RECOMMENDED.replace(turns="free")):  # free turns: the tight rope's rule only
+        assert "colliding arcs" not in _extras(other)

@@ -77,9 +77,11 @@ def _extras(st: GASettings) -> str:
         if st.restart_via > 0 and st.restarts:
             via += (f"; in a restart of a run whose best collides, {pct(st.restart_via)} of "
                     "them via a random obstacle too")
-            if st.restart_arcs > 0 and st.counts_wrap_sides:
-                via += (f", {pct(st.restart_arcs)} wrapping the overlapping neighbours of "
-                        "their colliding arcs")
+        if st.restart_arcs > 0 and st.restarts and st.counts_wrap_sides:
+            such = ("such a restart" if st.restart_via > 0
+                    else "a restart of a run whose best collides")
+            via += (f"; in {such} {pct(st.restart_arcs)} of them also wrap the "
+                    "overlapping neighbours of their colliding arcs")
         out.append(f"seeded by wrapping blockers ({pct(st.seeding)} of each new population{via})")
     if st.wrap_clearer > 0 and st.uses_legs and st.counts_wrap_sides:
         out.append(f"{pct(st.wrap_clearer)} of wraps round the side with fewer blockers")
