@@ -487,7 +487,7 @@ def wrap_from_words(words: Array, perm: Array, labels: Array, legs, via=False, a
             k, anybad = _choose(bad, w[0])
             b = (pick(ids, k) - circle_ids.POSES) // 2  # the arc's obstacle
             lab = pick(labels, k)
-            cand = (along(perm) >= count) & jnp.asarray(overlap)[b[None] if b.ndim else b, perm]
+            cand = (along(perm) >= count) & jnp.asarray(overlap)[b, perm]  # (n, ...)
             # its permutation position is k - 1: the obstacle goes to k, right after it
             j, anyc = _choose(cand, w[1])
             arc_ok = anybad & anyc
