@@ -485,7 +485,7 @@ def wrap_from_words(words: Array, perm: Array, labels: Array, legs, via=False, a
             inner = (pos >= 1) & (pos <= count)  # the touched obstacles' positions
             bad = jnp.asarray(legs.arcs)[prv, ids, nxt] & inner & on & ~jnp.any(blocked, axis=0)
             k, anybad = _choose(bad, w[0])
-            b = (pick(ids, k) - circle_ids.POSES) // 2  # the arc's obstacle
+            b = (pick(ids, k) - circle_ids.POSES) >> 1  # the arc's obstacle
             lab = pick(labels, k)
             cand = (along(perm) >= count) & jnp.asarray(overlap)[b, perm]  # (n, ...)
             # its permutation position is k - 1: the obstacle goes to k, right after it
