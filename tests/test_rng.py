@@ -81,3 +81,13 @@ def test_host_keys_are_the_device_keys(seed):
     assert np.array_equal(_data(host), _data(device))
     with jax.threefry_partitionable(False):
         assert np.array_equal(rng.host_key(seed), _data(jax.random.key(seed)))
+
+
+@pytest.mark.parametrize("size", [1, 2, 27, 28, 120])
+def test_words_of_many_keys_are_each_keys_bits(size):
+    data = np.asarray(jax.random.bits(jax.random.key(5), (2, 3, 4)))  # key words (3, 4)
+    want = jax.jit(jax.vmap(jax.vmap(lambda d: jax.random.bits(rng.wrap(d), (size,)))))(
+        np.stack([data[0], data[1]], axis=-1))  # (3, 4, size)
+    got = jax.jit(rng.words_of_keys, static_argnums=2)(data[0], data[1], size)  # (size, 3, 4)
+    assert got.shape == (size, 3, 4)
+    assert np.array_equal(np.moveaxis(np.asarray(got), 0, -1), np.asarray(want))

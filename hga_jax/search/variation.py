@@ -167,9 +167,9 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
     if settings is None or not settings.seeds or n == 0:
         return perm, labels, genes
     legs = _legs(sa, settings)
-    keys = _keys(words[2 * n + 2:2 * n + 4])
     pos = positional(perm, labels, settings)
-    wrap_words = jax.vmap(lambda k: path_ops._words(k, 3 * n))(keys)  # (P, 3n)
+    # each seed's 3n words from its key (rows 2n + 2 and 2n + 3): (3n, P)
+    wrap_words = rng.words_of_keys(words[2 * n + 2], words[2 * n + 3], 3 * n)
     via = spread(perm.shape[0], settings.seeding_via) | (
         jnp.asarray(colliding) & spread(perm.shape[0], settings.restart_via))
     arc_rule = None
@@ -177,7 +177,7 @@ def _fresh(words, n: int, settings: GASettings | None = None, sa: ScenarioArrays
         # restart_arcs (data: a share of 0 changes no seed)
         arcs = jnp.asarray(colliding) & spread(perm.shape[0], settings.restart_arcs)
         arc_rule = (overlapping(sa.centres, sa.model_radii), arcs)
-    sp, sl = path_ops.wrap_from_words(wrap_words.T, perm.T, pos.T, legs, via, arc_rule)  # population last
+    sp, sl = path_ops.wrap_from_words(wrap_words, perm.T, pos.T, legs, via, arc_rule)  # population last
     sp, sl = sp.T, sl.T
     sl = bound(sp, sl, settings)
     on = (jnp.arange(perm.shape[0]) < settings.seeded_count())[:, None]  # each from its own column
