@@ -112,6 +112,22 @@ def test_elitism_keeps_the_generation_best(robocup):
     assert np.all(np.diff(res.history["best_fitness"], axis=0) >= 0)
 
 
+@pytest.mark.parametrize("m,e", [(2, 2), (10, 2), (50, 3)])
+def test_elites_are_top_k_with_ties_to_the_lower_index(m, e):
+    import jax
+    import jax.numpy as jnp
+
+    from hga_jax.search.ga import top_indices
+
+    rng = np.random.default_rng(m)
+    pick = jax.jit(top_indices, static_argnums=1)
+    for _ in range(50):  # few distinct values: many ties
+        x = rng.integers(1, 5, m).astype(np.float32) / 4
+        want = np.argsort(-x, kind="stable")[:e]
+        assert np.array_equal(np.asarray(pick(jnp.asarray(x), e)), want)
+        assert np.array_equal(np.asarray(jax.lax.top_k(x, e)[1]), want)
+
+
 @pytest.mark.parametrize("selection,crossover,mutation", [
     ("tournament", "pmx", "exchange"), ("roulette", "ox1", "exchange"),
     ("tournament", "cx", "inversion"),
