@@ -12,7 +12,7 @@ Notebook use::
 
 The model and the result files are defined in docs/model.md.
 """
-__version__ = "0.8.2"
+__version__ = "0.8.3"
 
 import importlib
 from typing import Any
