@@ -53,10 +53,7 @@ def _hash_iota(key, size: int):
     """:func:`_hash` of the counters ``0 .. size - 1``; an odd count is padded with a 0
     (JAX's layout). The counter words are made from an iota rather than by padding
     and splitting an array: under ``vmap`` that padding cost XLA five times the hash."""
-    half = (size + 1) // 2
-    i = jnp.arange(half, dtype=jnp.uint32)
-    y1, y2 = threefry2x32(key[0], key[1], i, jnp.where(i + half < size, i + half, np.uint32(0)))
-    return jnp.concatenate([y1, y2[:size - half]])
+    return words_of_keys(key[0], key[1], size)
 
 
 def words_of_keys(k1, k2, size: int):
@@ -64,7 +61,7 @@ def words_of_keys(k1, k2, size: int):
     (size, ...) for the keys whose data words are ``k1`` and ``k2`` (each (...)). The same
     numbers as ``vmap`` over the keys (:func:`_hash_iota` per key), hashed across the keys:
     vmapped, XLA made each key's words one by one (27 words per key at 9 obstacles: 4 ns
-    a word against about 1 ns across the keys)."""
+    a word against about 1 ns across the keys). One key (scalar words): :func:`_hash_iota`."""
     half = (size + 1) // 2
     i = jnp.arange(half, dtype=jnp.uint32).reshape((half,) + (1,) * jnp.ndim(k1))
     y1, y2 = threefry2x32(k1[None], k2[None], i, jnp.where(i + half < size, i + half,
