@@ -37,7 +37,7 @@ calibration times.
 
 Usage (from the repository root)::
 
-    python3 experiments/benchmark.py [--quick] [--only runs sizes models presets memory deap]
+    python3 experiments/benchmark.py [--quick] [--only runs sizes models presets parts memory deap]
         [--runs 1 100 1000 10000] [--sizes 25 50 100] [--precisions float32 float64]
         [--repeats 3] [--deap-runs 20] [--million] [--cpu-devices N]
         [--out results/benchmark/benchmark.json]
@@ -192,6 +192,39 @@ def presets_case(sc, runs: int, repeats: int) -> dict[str, Any]:
             "ratio": med["recommended"] / med["paper"], "calibration_s": cal}
 
 
+PARTS = (("guided move", {"path_mutation": "none"}), ("seeding", {"seeding": 0.0}),
+         ("restarts", {"restart_after": 0}), ("islands", {"islands": 1}))
+"""The recommended preset's additions to the paper's HGA that cost search time, each as
+the settings that switch it off (``parts_case``)."""
+
+
+def parts_case(sc, runs: int, repeats: int) -> dict[str, Any]:
+    """The recommended preset's search (the paper's evaluations, as :func:`presets_case`)
+    with each of :data:`PARTS` off, and with all of them off, beside the paper's and the
+    whole preset: median search times, timed alternately after a first call."""
+    from hga_jax.search.settings import preset
+
+    paper = preset("paper")
+    rec = dataclasses.replace(preset("recommended"), generations_per_obstacle=0,
+                              generations=paper.generations)
+    variants = {"paper": paper, "recommended": rec}
+    for name, off in PARTS:
+        variants[f"without {name}"] = dataclasses.replace(rec, **off)
+    variants["without all four"] = dataclasses.replace(
+        rec, **{k: v for _, off in PARTS for k, v in off.items()})
+    cal = calibration()
+    times: dict[str, list[float]] = {name: [] for name in variants}
+    for st in variants.values():
+        run_many(sc, st, seed=0, runs=runs, exact=False)  # compile
+    for r in range(repeats):
+        for name, st in variants.items():
+            times[name].append(run_many(sc, st, seed=1 + r, runs=runs, exact=False).search_s)
+    med = {k: statistics.median(v) for k, v in times.items()}
+    return {"scenario": sc.name, "n": sc.n, "runs": runs, "search_s": times, "median_s": med,
+            "over_paper": {k: v / med["paper"] for k, v in med.items()},
+            "calibration_s": cal}
+
+
 def memory_case(runs: int) -> dict[str, Any]:
     """Peak RSS of ``runs`` runs of the paper's setting, measured in a fresh process."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(hga_jax.__file__)))
@@ -295,9 +328,10 @@ def parse(argv=None) -> argparse.Namespace:
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog="See the module docstring for what each part measures.")
     p.add_argument("--quick", action="store_true", help="a fast smoke run of every part")
-    p.add_argument("--only", nargs="+", choices=("runs", "sizes", "models", "presets", "memory",
-                                                   "deap"),
-                   default=["runs", "sizes", "models", "presets", "memory", "deap"], help="parts to run")
+    p.add_argument("--only", nargs="+", choices=("runs", "sizes", "models", "presets", "parts",
+                                                   "memory", "deap"),
+                   default=["runs", "sizes", "models", "presets", "parts", "memory", "deap"],
+                   help="parts to run")
     p.add_argument("--runs", type=int, nargs="+", help="run counts at n = 9 (1 100 1000 10000)")
     p.add_argument("--sizes", type=int, nargs="+", help="obstacle counts at R = 1000 (25 50 100)")
     p.add_argument("--size-runs", type=int, help="runs per size case (1000)")
@@ -387,6 +421,19 @@ def main(argv=None) -> int:
             report["presets"].append(c)
             print(f"{c['scenario']:<18} {c['n']:>3} {c['paper_s']:9.3f} {c['recommended_s']:14.3f} "
                   f"{c['ratio']:7.2f}", flush=True)
+    report["parts"] = []
+    if "parts" in args.only:
+        runs = 100 if args.quick else 1000
+        print(f"\nwhere the recommended preset's time goes: its search with one addition off, "
+              f"the same {50 * 51:,} evaluations per run, {runs:,} runs; median of "
+              f"{args.repeats}, timed alternately; in units of the paper's search", flush=True)
+        names = ["recommended"] + [f"without {name}" for name, _ in PARTS] + ["without all four"]
+        print(f"{'scene':<18} {'n':>3} {'paper s':>8} " + " ".join(f"{k:>{max(len(k), 6)}}" for k in names))
+        for sc in [paper_scene()] + [clutter_scene(n) for n in ((25,) if args.quick else (25, 40))]:
+            c = parts_case(sc, runs, args.repeats)
+            report["parts"].append(c)
+            print(f"{c['scenario']:<18} {c['n']:>3} {c['median_s']['paper']:8.3f} " + " ".join(
+                f"{c['over_paper'][k]:>{max(len(k), 6)}.2f}" for k in names), flush=True)
     report["memory"] = []
     if "memory" in args.only:
         counts = list(args.memory_runs) + ([MILLION] if args.million else [])

@@ -63,6 +63,22 @@ def test_benchmark_presets_ratio(tmp_path):
     assert "ratio" in proc.stdout
 
 
+def test_benchmark_parts(tmp_path):
+    """Prints where the recommended preset's search time goes: each of its additions off."""
+    out = tmp_path / "benchmark.json"
+    proc = _run("experiments/benchmark.py", "--quick", "--only", "parts", "--out", str(out))
+    cases = json.loads(out.read_text())["parts"]
+    assert [c["n"] for c in cases] == [9, 25]
+    for c in cases:
+        assert set(c["median_s"]) == {"paper", "recommended", "without guided move",
+                                      "without seeding", "without restarts", "without islands",
+                                      "without all four"}
+        for name, t in c["median_s"].items():
+            assert c["over_paper"][name] == pytest.approx(t / c["median_s"]["paper"])
+        print(f"n = {c['n']}: " + ", ".join(f"{k} {v:.2f}" for k, v in c["over_paper"].items()))
+    assert "without guided move" in proc.stdout
+
+
 def test_benchmark_exact():
     _run("experiments/bench_exact.py", "--scenes", "8", "--repeats", "5")
 
