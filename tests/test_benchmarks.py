@@ -50,12 +50,18 @@ def test_benchmark_quick(tmp_path):
         assert r["deap_over_hga_jax"] == pytest.approx(r["deap_per_run_s"] / r["hga_jax_per_run_s"])
 
 
+def _quick_part(tmp_path, part):
+    """``benchmark.py --quick --only part``: its output and its cases (n = 9 and 25)."""
+    out = tmp_path / "benchmark.json"
+    proc = _run("experiments/benchmark.py", "--quick", "--only", part, "--out", str(out))
+    cases = json.loads(out.read_text())[part]
+    assert [c["n"] for c in cases] == [9, 25]
+    return proc, cases
+
+
 def test_benchmark_presets_ratio(tmp_path):
     """Prints the recommended preset's search time over the paper's, the same evaluations."""
-    out = tmp_path / "benchmark.json"
-    proc = _run("experiments/benchmark.py", "--quick", "--only", "presets", "--out", str(out))
-    cases = json.loads(out.read_text())["presets"]
-    assert [c["n"] for c in cases] == [9, 25]
+    proc, cases = _quick_part(tmp_path, "presets")
     for c in cases:
         assert c["evaluations"] == c["runs"] * 50 * 51
         assert c["ratio"] == pytest.approx(c["recommended_s"] / c["paper_s"])
@@ -65,10 +71,7 @@ def test_benchmark_presets_ratio(tmp_path):
 
 def test_benchmark_parts(tmp_path):
     """Prints where the recommended preset's search time goes: each of its additions off."""
-    out = tmp_path / "benchmark.json"
-    proc = _run("experiments/benchmark.py", "--quick", "--only", "parts", "--out", str(out))
-    cases = json.loads(out.read_text())["parts"]
-    assert [c["n"] for c in cases] == [9, 25]
+    proc, cases = _quick_part(tmp_path, "parts")
     for c in cases:
         assert set(c["median_s"]) == {"paper", "recommended", "without guided move",
                                       "without seeding", "without restarts", "without islands",
