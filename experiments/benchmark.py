@@ -170,14 +170,20 @@ def model_case(sc, preset_name: str, turns: str, runs: int, repeats: int) -> dic
             "fingerprint": fingerprint, "calibration_s": cal}
 
 
-def presets_case(sc, runs: int, repeats: int) -> dict[str, Any]:
-    """The recommended preset against the paper's on ``sc``, the same evaluations per run
-    (the recommended budget's growth with n off), timed alternately after a first call."""
+def same_evaluations() -> tuple[GASettings, GASettings]:
+    """The paper's preset and the recommended one with the paper's evaluations per run
+    (50 x 51: the recommended budget's growth with n switched off)."""
     from hga_jax.search.settings import preset
 
     paper = preset("paper")
-    rec = dataclasses.replace(preset("recommended"), generations_per_obstacle=0,
-                              generations=paper.generations)
+    return paper, dataclasses.replace(preset("recommended"), generations_per_obstacle=0,
+                                      generations=paper.generations)
+
+
+def presets_case(sc, runs: int, repeats: int) -> dict[str, Any]:
+    """The recommended preset against the paper's on ``sc``, the same evaluations per run
+    (the recommended budget's growth with n off), timed alternately after a first call."""
+    paper, rec = same_evaluations()
     cal = calibration()
     times: dict[str, list[float]] = {"paper": [], "recommended": []}
     for name, st in (("paper", paper), ("recommended", rec)):
@@ -202,11 +208,7 @@ def parts_case(sc, runs: int, repeats: int) -> dict[str, Any]:
     """The recommended preset's search (the paper's evaluations, as :func:`presets_case`)
     with each of :data:`PARTS` off, and with all of them off, beside the paper's and the
     whole preset: median search times, timed alternately after a first call."""
-    from hga_jax.search.settings import preset
-
-    paper = preset("paper")
-    rec = dataclasses.replace(preset("recommended"), generations_per_obstacle=0,
-                              generations=paper.generations)
+    paper, rec = same_evaluations()
     variants = {"paper": paper, "recommended": rec}
     for name, off in PARTS:
         variants[f"without {name}"] = dataclasses.replace(rec, **off)
