@@ -10,6 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from hga_jax.model import circle_ids
 from hga_jax.model import legs as legs_mod
 from hga_jax.search import path_ops, permutation, registry, rng
 from hga_jax.host.config import load_scenario, scenario_from_dict
@@ -58,6 +59,13 @@ def _legs(sc):
 def _touched(perm, labels):
     """The touched obstacles: (obstacle, label) in permutation order."""
     return [(int(o), int(l)) for o, l in zip(perm, labels[1:-1]) if l != 0]
+
+
+def test_obstacle_of_inverts_the_circle_ids():
+    i = np.repeat(np.arange(7), 2)
+    ids = circle_ids.obstacle(i, np.tile([0, 1], 7))
+    assert sorted(ids.tolist()) == list(range(circle_ids.POSES, circle_ids.count(7)))
+    assert circle_ids.obstacle_of(jnp.asarray(ids)).tolist() == i.tolist()
 
 
 def _circle_ids(perm, labels):

@@ -43,6 +43,12 @@ def obstacle(i, side_):
     return POSES + 2 * i + (1 - side_)
 
 
+def obstacle_of(ids):
+    """The obstacle whose circle ``ids`` is (the inverse of :func:`obstacle`, either
+    side; obstacle circles only): ``(id - 4) >> 1``."""
+    return (ids - POSES) >> 1
+
+
 def is_start(ids):
     """Whether circle (or node) ``ids`` is a start circle (the start point)."""
     return ids < GOAL[0]

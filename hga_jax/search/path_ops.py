@@ -493,7 +493,7 @@ def wrap_from_words(words: Array, perm: Array, labels: Array, legs, via=False, a
                 bad = (jnp.asarray(legs.arcs)[prv, ids, nxt] & inner & on
                        & ~jnp.any(blocked, axis=0))
                 k, anybad = _choose(bad, w[0])
-                b = (pick(ids, k) - circle_ids.POSES) >> 1  # the arc's obstacle
+                b = circle_ids.obstacle_of(pick(ids, k))  # the arc's obstacle
                 lab = pick(labels, k)
                 cand = (along(perm) >= count) & jnp.asarray(overlap)[b, perm]  # (n, ...)
                 # its permutation position is k - 1: the obstacle goes to k, right after it
