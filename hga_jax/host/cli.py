@@ -269,16 +269,26 @@ def _pose_args(p: argparse.ArgumentParser) -> None:
 def _car_arg(p: argparse.ArgumentParser) -> None:
     p.add_argument("--car", metavar="CAR", help="replace the scenario's [robot] car: "
                    + ", ".join(car_model.cars()) + " (reeds-shepp also drives backward)")
+    p.add_argument("--speed", metavar="M_PER_S", type=float,
+                   help="replace the scenario's [robot] speed: the car's constant speed "
+                   "along its path (m/s, > 0), which times it against robots that move")
 
 
 def _with_car(scenario, args):
-    """The scenario with ``--car`` as its car (checked: one line naming the flag)."""
-    if args.car is None:
-        return scenario
-    if args.car not in car_model.cars():
-        raise validation.error("command line", "--car", f"must be one of "
-                               f"{', '.join(car_model.cars())}, got {args.car!r}")
-    return dataclasses.replace(scenario, car=args.car)
+    """The scenario with ``--car`` as its car and ``--speed`` as its speed (checked: one
+    line naming the flag)."""
+    if args.car is not None:
+        if args.car not in car_model.cars():
+            raise validation.error("command line", "--car", f"must be one of "
+                                   f"{', '.join(car_model.cars())}, got {args.car!r}")
+        scenario = dataclasses.replace(scenario, car=args.car)
+    speed = getattr(args, "speed", None)
+    if speed is not None:
+        if not (math.isfinite(speed) and speed > 0.0):
+            raise validation.error("command line", "--speed", f"must be a finite number > 0, "
+                                   f"got {speed!r}")
+        scenario = dataclasses.replace(scenario, speed=float(speed))
+    return scenario
 
 
 def _pose_flags(args) -> dict[str, Any]:
@@ -531,6 +541,17 @@ def _cmd_exact(args) -> int:
 
 
 def _cmd_check(args) -> int:
+    """One line per scenario file (ok, or an error), then one for ``--ga`` and the plugins.
+
+    Robots that move: a moving robot whose model circle holds the start at time 0 is
+    refused by the loader (an error line naming the obstacle; the file counts as bad).
+    After a scene's ok line comes one line per moving robot whose model circle holds the
+    goal when the car arrives there on the standing robots' shortest path (the exact
+    optimum of :meth:`~hga_jax.model.scenario.Scenario.still_scene` in the scene's model,
+    its length over ``[robot] speed``): a note, not an error, since a longer path that
+    arrives later may still find the goal free. Exit status: 2 if any file is bad, else
+    0, as for a scene where nothing moves (the notes change nothing).
+    """
     from hga_jax.model.no_path import model_words
     from hga_jax.words import count
 
@@ -557,8 +578,21 @@ def _cmd_check(args) -> int:
             _error(f"{path}: {problem}")
             bad += 1
             continue
+        turns = car_model.resolve(st.turns, sc.car)
         _emit(f"{path}: ok (scenario {sc.name}, {count(sc.n, 'obstacle')}, a feasible path "
-              f"exists under {model_words(st.collision, car_model.resolve(st.turns, sc.car))})")
+              f"exists under {model_words(st.collision, turns)})")
+        if sc.has_motion:  # a robot on the goal when the car gets there the shortest way
+            from hga_jax.model import moving
+            from hga_jax.model.exact import solve
+
+            still = solve(sc.still_scene(), st.collision, turns=turns)
+            if still.feasible and math.isfinite(still.length):
+                t = still.length / sc.speed
+                for k, gap in moving.at(sc, sc.goal[:2], t):
+                    _emit(f"{path}: note: moving robot {k + 1} holds the goal at t = {t:.3f} s, "
+                          f"when the car arrives on the standing robots' shortest path "
+                          f"({still.length:.3f} m at {sc.speed:g} m/s; {-gap:.3f} m inside "
+                          "its model circle): a path clear of it arrives later")
     if args.ga and ga_ok:
         keys = _ga_file(args.ga)[0]
         shown = ", ".join(f"{k} = {v}" for k, v in keys.items()) or "no settings"

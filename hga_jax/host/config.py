@@ -4,10 +4,11 @@ A scenario file holds (units: metres and degrees; headings are converted to
 radians in the returned :class:`~hga_jax.model.scenario.Scenario`)::
 
     name = "..."
-    [robot]      radius, min_turn_radius
+    [robot]      radius, min_turn_radius, car, speed (optional, m/s, default 1.0)
     [start]      x, y, heading_deg
     [goal]       x, y, heading_deg
-    [[obstacles]] x, y, radius (optional, default: the robot's radius)
+    [[obstacles]] x, y, radius (optional, default: the robot's radius),
+                 vx, vy (optional, m/s, default 0: a robot that moves, docs/model.md)
     [field]      xmin, xmax, ymin, ymax, keep_inside (optional, default false)
     [ga]         GA settings, checked by :class:`~hga_jax.search.settings.GASettings`
                  (operators it names must be registered first: plugins load before)
@@ -42,9 +43,10 @@ TOP: Spec = {
     "ga": ("table", False),
 }
 ROBOT: Spec = {"radius": ("number", True), "min_turn_radius": ("number", True),
-               "car": ("string", False)}
+               "car": ("string", False), "speed": ("number", False)}
 POSE: Spec = {"x": ("number", True), "y": ("number", True), "heading_deg": ("number", True)}
-OBSTACLE: Spec = {"x": ("number", True), "y": ("number", True), "radius": ("number", False)}
+OBSTACLE: Spec = {"x": ("number", True), "y": ("number", True), "radius": ("number", False),
+                  "vx": ("number", False), "vy": ("number", False)}
 FIELD: Spec = {
     "xmin": ("number", True), "xmax": ("number", True), "ymin": ("number", True),
     "ymax": ("number", True), "keep_inside": ("bool", False),
@@ -118,24 +120,34 @@ def _field(table: Mapping[str, Any], r: float, source: str) -> Field:
     return f
 
 
-def _obstacles(items: Any, r: float, source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Obstacle centres ``(n, 2)`` and physical radii ``(n,)`` in metres."""
-    centres, radii = [], []
+def _obstacles(items: Any, r: float,
+               source: str) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Obstacle centres ``(n, 2)``, physical radii ``(n,)`` in metres and velocities
+    ``(n, 2)`` in m/s (None when no obstacle gives one)."""
+    centres, radii, velocities = [], [], []
     for i, item in enumerate(items, start=1):
         t = _table(item, OBSTACLE, source, f"obstacles[{i}]")
         radii.append(_positive(t.get("radius", r), source, f"obstacles[{i}].radius"))
+        velocities.append((t.get("vx", 0.0), t.get("vy", 0.0)))
         c = (t["x"], t["y"])
         for j, other in enumerate(centres, start=1):
             if math.dist(c, other) <= TOL:
                 raise _error(source, f"obstacles[{i}]", f"same centre as obstacles[{j}]")
         centres.append(c)
-    return np.asarray(centres, float).reshape(-1, 2), np.asarray(radii, float)
+    moving = any(v != (0.0, 0.0) for v in velocities)
+    return (np.asarray(centres, float).reshape(-1, 2), np.asarray(radii, float),
+            np.asarray(velocities, float).reshape(-1, 2) if moving else None)
 
 
-def _check_pose(s: Scenario, pose: tuple[float, float, float], source: str, key: str) -> None:
-    """Raise if the pose point is inside a model circle or (kept) outside the field."""
+def _check_pose(s: Scenario, pose: tuple[float, float, float], source: str, key: str,
+                still_only: bool = False) -> None:
+    """Raise if the pose point is inside a model circle or (kept) outside the field;
+    ``still_only``: only the circles of robots that stand (the goal: a moving robot is
+    elsewhere by the time the car arrives, which feasibility in time judges)."""
     x, y, _ = pose
-    for i, (c, big_r) in enumerate(zip(s.centres, s.model_radii), start=1):
+    for i, (c, big_r, moves) in enumerate(zip(s.centres, s.model_radii, s.moving), start=1):
+        if still_only and moves:
+            continue
         d = math.dist((x, y), c)
         if d < big_r - TOL:
             raise _error(source, key, f"point ({x:g}, {y:g}) is inside the model circle "
@@ -182,14 +194,16 @@ def scenario_from_dict(mapping: Mapping[str, Any], source: str = "<dict>",
                      f"got {car!r}")
     start, goal = _pose(*given["start"]), _pose(*given["goal"])
     fld = _field(top["field"], r, source) if "field" in top else None
-    centres, radii = _obstacles(top.get("obstacles", ()), r, source)
+    speed = _positive(robot.get("speed", 1.0), source, "robot.speed")
+    centres, radii, velocities = _obstacles(top.get("obstacles", ()), r, source)
     ga = dict(top.get("ga", {}))
     # Keys and types now; values once every layer (preset, file, --ga, flags) is merged.
     GASettings.check_layer(validation.file_layer(ga, source, "ga"))
     s = Scenario(name=name, robot_radius=r, min_turn_radius=rho, start=start, goal=goal,
-                 centres=centres, radii=radii, field=fld, ga=ga, source=source, car=car)
+                 centres=centres, radii=radii, field=fld, ga=ga, source=source, car=car,
+                 velocities=velocities, speed=speed)
     _check_pose(s, start, *given["start"][1:])
-    _check_pose(s, goal, *given["goal"][1:])
+    _check_pose(s, goal, *given["goal"][1:], still_only=True)
     return s
 
 

@@ -135,8 +135,13 @@ def run_summary(res: RunsResult) -> str:
     ]
     if "optimum_length" in s:
         model = car_model.get(res.optimum.turns)
+        name = model.optimum_name
+        if res.yardstick == "lower bound":
+            name = "lower bound (the standing robots' optimum, which meets a moving robot in time)"
+        elif sc.has_motion:
+            name += " (certified in time)"
         lines.append(
-            f"{model.optimum_name} {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
+            f"{name} {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
             f"({s['runs_hit']:,} of {count(runs, 'run')}); gap over the "
             f"{count(s['feasible_runs'], 'feasible run')}: "
             + (f"median {pct(s['gap_median'])}, mean {pct(s['gap_mean'])}, "
@@ -146,7 +151,10 @@ def run_summary(res: RunsResult) -> str:
                      + _generations(s["median_generation_within_1pct"], s["runs_within_1pct"],
                                     "within 1%") + "; "
                      + _generations(s["median_generation_hit"], s["runs_hit"], "the hit"))
-        lines += model.notes(res.optimum, st.model)
+        if res.yardstick == "lower bound":
+            lines.append(moving_line(res.optimum))
+        else:
+            lines += model.notes(res.optimum, st.model)
     elif res.optimum is not None:
         lines.append("optimum: " + no_path_line(res.optimum))
     if st.collision == "paper":
@@ -183,17 +191,34 @@ def run_json(res: RunsResult, written: list[str]) -> dict[str, Any]:
     })
 
 
+def moving_line(opt: Any) -> str:
+    """Among robots that move with no optimum certified: the best path known in time."""
+    if not opt.feasible:
+        return "no path feasible in time is known (the lower bound's path meets a moving robot)"
+    how = opt.message.rsplit("(", 1)[-1].rstrip(")") if "(" in opt.message else ""
+    return (f"best known path feasible in time {opt.length:.6f} m"
+            + (f" (found by {how})" if how else "")
+            + f", {100.0 * (opt.length / opt.lower_bound - 1.0):.2f}% over the lower bound")
+
+
 def exact_summary(scenario: Scenario, opt: Any) -> str:
     """The summary ``hga-jax exact`` prints."""
     took = f"solved in {1000 * opt.seconds:.1f} ms"
+    if scenario.has_motion and not opt.optimal:
+        return (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}, "
+                f"{count(int(scenario.moving.sum()), 'moving')}), collision {opt.collision}: "
+                f"lower bound {opt.lower_bound:.6f} m (the standing robots' optimum, which "
+                f"meets a moving robot in time), not certified; {moving_line(opt)}; {took}")
     if not opt.feasible:
         return (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}): "
                 f"{no_path_line(opt)}; {took}")
     head = (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}), collision "
             f"{opt.collision}: ")
     model = car_model.get(opt.turns)
-    text = head + (f"{model.optimum_name} {opt.length:.6f} m touching {touches(opt.touched)}"
-                   f"{model.head(opt)}, {took}")
+    certified = " (certified: it keeps clear of every moving robot in time)" if (
+        scenario.has_motion) else ""
+    text = head + (f"{model.optimum_name} {opt.length:.6f} m{certified} touching "
+                   f"{touches(opt.touched)}{model.head(opt)}, {took}")
     text += "".join("\n" + line for line in model.notes(opt))
     if opt.collision == "paper":
         text += "\nnote: " + _full_test_note(scenario, opt.path or opt.best_expressible)

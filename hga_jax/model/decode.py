@@ -17,7 +17,9 @@ layout XLA vectorises well), masking legs past the last touched circle.
 Violations: the rules of :mod:`hga_jax.model.collision` (segments against
 obstacles by the criterion of ``collision``, arcs against every obstacle but their
 own circle in ``"full"`` mode, pieces leaving the kept field, missing tangents);
-the segments' are in the tangent table, the arcs' are counted here.
+the segments' are in the tangent table, the arcs' are counted here. Among robots that
+move (``ScenarioArrays.motion``), the violations in time of :mod:`hga_jax.model.moving`
+are added.
 """
 from __future__ import annotations
 
@@ -29,7 +31,7 @@ import jax.numpy as jnp
 from hga_jax.model import circle_ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
-from hga_jax.model import reversing
+from hga_jax.model import moving, reversing
 from .scenario import ScenarioArrays
 
 
@@ -236,7 +238,7 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
     pad = jnp.zeros((1,) + arcs.shape[1:], dt)
     arcs = jnp.concatenate([arcs, pad])  # (S, 5, B)
     arcs = jnp.where((slots == last[None])[:, None, :], goal_arc[None], arcs)
-    return Decoded(
+    decoded = Decoded(
         length=length,
         violations=viol,
         count=count,
@@ -247,3 +249,7 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
         free=None if free is None else free.transpose(2, 0, 1),
         gears=gears,
     )
+    if sa.motion is None:
+        return decoded
+    return decoded._replace(violations=viol + moving.violations(
+        decoded, sa.motion, sa.centres.shape[0], moving.subarcs_of(dt)))

@@ -29,6 +29,7 @@ are not joined. Units: metres and radians.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -75,6 +76,9 @@ class ExactResult:
       False, ``best_expressible`` the tight-rope optimum's path) and its arcs on free
       circles carry ``"free": true`` in ``segments``. ``details``: what a car model
       records beside (:meth:`~hga_jax.model.car_model.CarModel.extras` writes them).
+    Among robots that move (:mod:`hga_jax.model.moving_optimum`): ``optimal`` False when
+      the path is only the shortest known feasible in time, and ``lower_bound`` the
+      standing robots' optimum (m); result files carry both keys for such scenes only.
     """
 
     length: float
@@ -94,6 +98,8 @@ class ExactResult:
     tight_rope_length: float | None = None
     free_arcs: int = 0
     details: dict[str, Any] = field(default_factory=dict)
+    optimal: bool = True
+    lower_bound: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (length is null when infeasible)."""
@@ -107,7 +113,9 @@ class ExactResult:
             "best_expressible": None if best is None else best.to_dict(),
             "seconds": self.seconds, "collision": self.collision, "message": self.message,
             "segments": self.segments, "turns": self.turns,
-            **car_model.get(self.turns).extras(self)}
+            **car_model.get(self.turns).extras(self),
+            **({} if self.optimal and self.lower_bound is None else
+               {"optimal": self.optimal, "lower_bound": self.lower_bound})}
 
 
 def _tangents(sa, full: bool):
@@ -184,7 +192,15 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = car_model.DE
     problem = car_model.problem(turns, collision)
     if problem:
         raise ValueError(f"turns: {problem}")
-    return car_model.get(turns).solve(scenario, collision)
+    model = car_model.get(turns)
+    if scenario.has_motion:  # a lower bound, certified when clear in time
+        from . import moving_optimum
+
+        if car is not None and car != scenario.car:
+            scenario = dataclasses.replace(scenario, car=car)
+        return moving_optimum.solve(scenario, collision,
+                                    lambda scene: model.solve(scene, collision))
+    return model.solve(scenario, collision)
 
 
 def solve_tight_rope(scenario: Scenario, collision: str = "full") -> ExactResult:

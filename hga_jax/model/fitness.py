@@ -108,7 +108,10 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
 def turn_table(sa: ScenarioArrays, collision: str = "full", genes: bool = False):
     """``(table, reversing)``: the turn table :func:`evaluate` reads for chromosomes with
     leg genes (``genes``) or without, None where it decodes leg by leg; and whether the
-    legs are a reversing car's (their cusps counted)."""
+    legs are a reversing car's (their cusps counted). Among robots that move there is
+    none: a turn's violations depend on when the car gets there (:mod:`hga_jax.model.moving`)."""
+    if sa.motion is not None:
+        return None, False
     if genes:
         return sa.turns_free, sa.free_legs is not None and sa.free_legs.cusps is not None
     return (sa.turns_full if collision == "full" else sa.turns_paper), False

@@ -12,6 +12,14 @@ loader in :mod:`hga_jax.host.config`). ``Scenario.arrays(dtype)`` gives the
 :class:`ScenarioArrays` pytree that device code takes; ``Scenario.search_arrays(dtype,
 collision)`` adds the scenario's turn table for that collision mode
 (:mod:`hga_jax.model.turns`), which the GA's fitness looks paths up in.
+
+Robots that move (docs/model.md, "Moving robots"): ``Scenario.velocities`` gives each
+obstacle's velocity (m/s; None or zeros: every robot stands) and ``Scenario.speed`` the
+car's (m/s). A moving robot is no circle of the tight rope: the static rules and tables
+see it as a point circle that blocks nothing (``Scenario.circle_radii``), a chromosome
+that wraps it counts a violation, and its clearance in time is judged by
+:mod:`hga_jax.model.time` from ``ScenarioArrays.motion``. With every velocity 0 the
+arrays are the static ones, bit for bit.
 """
 from __future__ import annotations
 
@@ -53,6 +61,8 @@ class Scenario:
     ga: dict[str, Any] = dataclasses.field(default_factory=dict)  # raw [ga] table, checked by settings
     source: str = "<scenario>"  # file it came from, for messages
     car: str = "dubins"  # "dubins" (forward only) or "reeds-shepp" (also backward)
+    velocities: np.ndarray | None = None  # (n, 2) obstacle velocities, m/s (None: all stand)
+    speed: float = 1.0  # the car's constant speed along its path, m/s
     _arrays: dict[Any, "ScenarioArrays"] = dataclasses.field(
         default_factory=dict, init=False, repr=False, compare=False)  # per dtype, built once
     _turns: dict[Any, Any] = dataclasses.field(
@@ -67,6 +77,55 @@ class Scenario:
     def model_radii(self) -> np.ndarray:
         """Model circle radii ``R_i = max(rho, r_i + r)`` (metres)."""
         return np.maximum(self.min_turn_radius, self.radii + self.robot_radius)
+
+    @property
+    def moving(self) -> np.ndarray:
+        """(n,) bool: which obstacles move (a non-zero velocity)."""
+        if self.velocities is None:
+            return np.zeros(self.n, bool)
+        return np.any(np.asarray(self.velocities, float).reshape(self.n, 2) != 0.0, axis=1)
+
+    @property
+    def has_motion(self) -> bool:
+        """Whether some obstacle moves (then feasibility is judged in time)."""
+        return bool(self.moving.any())
+
+    @property
+    def circle_radii(self) -> np.ndarray:
+        """The radii of the obstacles' circles in the static tables (m): ``R_i`` for a
+        robot that stands, 0 for one that moves (a point that blocks nothing; its
+        clearance is judged in time, :mod:`hga_jax.model.time`)."""
+        return np.where(self.moving, 0.0, self.model_radii)
+
+    def still_scene(self) -> "Scenario":
+        """The scenario with only its standing robots (the same poses, field and car):
+        its optimum is a lower bound on this one's (docs/model.md, "Moving robots").
+        ``self`` when nothing moves."""
+        if not self.has_motion:
+            return self
+
+        def build():
+            keep = ~self.moving
+            return dataclasses.replace(self, centres=self.centres[keep], radii=self.radii[keep],
+                                       velocities=None)
+
+        return self.cached("still scene", build)
+
+    @property
+    def still_index(self) -> np.ndarray:
+        """(n_still,) the indices (from 0) of the standing robots: obstacle ``k`` of
+        :meth:`still_scene` is obstacle ``still_index[k]`` of this scenario."""
+        return np.flatnonzero(~self.moving)
+
+    def motion(self, dtype: Any = np.float64) -> "Motion | None":
+        """The moving robots as device arrays in ``dtype`` (None when nothing moves)."""
+        if not self.has_motion:
+            return None
+        idx = np.flatnonzero(self.moving)
+        return Motion(centres=np.asarray(self.centres[idx], dtype).reshape(-1, 2),
+                      velocities=np.asarray(self.velocities, dtype).reshape(self.n, 2)[idx],
+                      radii=np.asarray(self.model_radii[idx], dtype),
+                      index=idx.astype(np.int32), speed=np.asarray(self.speed, dtype))
 
     @property
     def delta(self) -> float:
@@ -123,8 +182,8 @@ class Scenario:
 
             sa = sa._replace(legs=self.cached(("legs", name), typed_legs))
 
-        def turn_table():
-            if not turn_tables.fits(self.n):
+        def turn_table():  # none in time: the fitness decodes (hga_jax.model.moving)
+            if not turn_tables.fits(self.n) or self.has_motion:
                 return None
             s64 = self.arrays(np.float64)
             built = turn_tables.build(s64.tangents, s64.start, s64.goal, s64.centres,
@@ -158,7 +217,8 @@ class Scenario:
         """start, goal, centres, model_radii, rho, bounds as numpy arrays of ``dtype``."""
         start, goal = np.asarray(self.start, dtype), np.asarray(self.goal, dtype)
         centres = np.asarray(self.centres, dtype).reshape(self.n, 2)
-        model_radii = np.asarray(self.model_radii, dtype).reshape(self.n)
+        model_radii = np.asarray(self.circle_radii if self.has_motion else self.model_radii,
+                                 dtype).reshape(self.n)
         return (start, goal, centres, model_radii, np.asarray(self.min_turn_radius, dtype),
                 np.asarray(self.bounds, dtype))
 
@@ -168,7 +228,25 @@ class Scenario:
             start=start, goal=goal, centres=centres, model_radii=model_radii, rho=rho,
             bounds=box, delta=np.asarray(self.delta, dtype),
             tangents=tangents.build(start, goal, centres, model_radii, rho, box),
+            motion=self.motion(dtype),
         )
+
+
+class Motion(NamedTuple):
+    """The moving robots of a scenario on the device (docs/model.md, "Moving robots"):
+    ``m`` robots, the centre of robot ``j`` at time ``t`` being ``centres[j] + t *
+    velocities[j]``.
+
+    centres: (m, 2) at time 0 (m). velocities: (m, 2) (m/s). radii: (m,) model radii
+    ``R_j`` (m). index: (m,) int32 their obstacle indices in the scenario (from 0).
+    speed: () the car's speed along its path (m/s).
+    """
+
+    centres: Any
+    velocities: Any
+    radii: Any
+    index: Any
+    speed: Any
 
 
 class ScenarioArrays(NamedTuple):
@@ -192,6 +270,8 @@ class ScenarioArrays(NamedTuple):
     free_legs: the :class:`~hga_jax.model.free_legs.LegTable` of free-turn chromosomes,
     turns_free: its turn table's entries (or None: decoded leg by leg); both only from
     :func:`hga_jax.model.free_legs.search_arrays`.
+    motion: the :class:`Motion` of the moving robots, or None (nothing moves): then the
+    fitness decodes leg by leg and adds the violations in time (:mod:`hga_jax.model.time`).
     """
 
     start: Any
@@ -208,6 +288,7 @@ class ScenarioArrays(NamedTuple):
     tight_legs: Any = None
     free_legs: Any = None
     turns_free: Any = None
+    motion: Any = None
 
 
 def scenario_to_dict(s: Scenario) -> dict[str, Any]:
@@ -216,13 +297,19 @@ def scenario_to_dict(s: Scenario) -> dict[str, Any]:
     def pose(p: tuple[float, float, float]) -> dict[str, float]:
         return {"x": float(p[0]), "y": float(p[1]), "heading_deg": math.degrees(p[2])}
 
+    vel = np.zeros((s.n, 2)) if s.velocities is None else np.asarray(s.velocities, float)
+
+    def velocity(k: int) -> dict[str, float]:
+        return {} if not s.moving[k] else {"vx": float(vel[k, 0]), "vy": float(vel[k, 1])}
+
     out: dict[str, Any] = {
         "name": s.name,
         "robot": {"radius": s.robot_radius, "min_turn_radius": s.min_turn_radius,
-                  **({} if s.car == "dubins" else {"car": s.car})},
+                  **({} if s.car == "dubins" else {"car": s.car}),
+                  **({} if s.speed == 1.0 else {"speed": float(s.speed)})},
         "start": pose(s.start), "goal": pose(s.goal),
-        "obstacles": [{"x": float(x), "y": float(y), "radius": float(r)}
-                      for (x, y), r in zip(s.centres, s.radii)],
+        "obstacles": [{"x": float(x), "y": float(y), "radius": float(r), **velocity(k)}
+                      for k, ((x, y), r) in enumerate(zip(s.centres, s.radii))],
     }
     if s.field is not None:
         out["field"] = dataclasses.asdict(s.field)

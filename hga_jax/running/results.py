@@ -87,8 +87,19 @@ class RunsResult:
 
     @property
     def optimum_length(self) -> float | None:
+        """The yardstick of the gaps (m): the optimum, or among robots that move where no
+        optimum is certified the lower bound (:attr:`yardstick` says which); None without."""
         opt = self.optimum
+        if opt is not None and not opt.optimal:
+            return opt.lower_bound
         return float(opt.length) if opt is not None and opt.feasible else None
+
+    @property
+    def yardstick(self) -> str:
+        """What the gaps are measured against: ``"optimum"`` or ``"lower bound"`` (robots
+        that move, no optimum certified: :mod:`hga_jax.model.moving_optimum`)."""
+        opt = self.optimum
+        return "lower bound" if opt is not None and not opt.optimal else "optimum"
 
     @property
     def gap(self) -> np.ndarray:
@@ -141,6 +152,10 @@ class RunsResult:
             gap = self.gap[self.feasible]  # infeasible runs are counted, not averaged
             near = self.first_generation_within(NEAR_GAP)
             out.update(car_model.get(self.optimum.turns).summary(self.optimum))
+            if self.scenario.has_motion:  # gaps to the optimum or to the bound, said
+                out["yardstick"] = self.yardstick
+                if self.optimum.feasible and not self.optimum.optimal:
+                    out["best_known_length"] = float(self.optimum.length)
             out.update({
                 "optimum_length": self.optimum_length,
                 "hit_rate": float(self.hit.mean()),
