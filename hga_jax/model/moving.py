@@ -6,8 +6,10 @@ its centre at time ``t >= 0`` being ``O_j + t V_j``; the car drives its path at 
 ``t = s / speed`` (a cusp takes no time). A piece of the path violates robot ``j`` when,
 at some moment the car is on it, the car's point is closer than ``R_j - tol`` to the
 robot's centre at that moment: one violation per (piece, moving robot) pair. A path that
-wraps a moving robot's circle counts one violation per such circle (a moving robot is
-no circle of the tight rope: :attr:`hga_jax.model.scenario.Scenario.circle_radii`).
+may wrap a moving robot: its circle stands where the robot is when the car passes it
+(:meth:`hga_jax.model.scenario.Scenario.placement_times`), and an arc on it is judged
+against that robot by :func:`own_reach` (with ``wrap_moving = "never"`` each wrap counts
+one violation instead).
 
 The test of one piece against one robot is sound: it never calls a piece clear that
 comes closer than ``R_j - tol``.
@@ -111,7 +113,7 @@ def arc_points(cx, cy, r, ax, ay, swp, direction, cos_sin, k: int):
     return xs, ys, r * sub * sub / 8.0 + xp.zeros_like(swp)
 
 
-def _reached(px, py, t, h, err, motion_arrays, tol):
+def _reached(px, py, t, h, err, motion_arrays, tol, skip=None):
     """(m,) + P bool: which robots come closer than ``R - tol`` to the chord pieces from
     points ``px[i], py[i]`` (lists of ``k + 1`` arrays of shape P) at times ``t + i h``.
     ``motion_arrays``: ``(ox, oy, vx, vy, R)``, each (m,) + (1,) * len(P)."""
@@ -122,7 +124,45 @@ def _reached(px, py, t, h, err, motion_arrays, tol):
     ox, oy, vx, vy, radius = (a[:, None] for a in motion_arrays)  # (m, 1) + (1,) * len(P)
     d2 = chord_reach(x[:-1], y[:-1], x[1:], y[1:], t + steps * h, h, ox, oy, vx, vy)
     reach = xp.maximum(radius - tol + err, 0.0)
-    return xp.any(d2 < reach * reach, axis=1)
+    hit = xp.any(d2 < reach * reach, axis=1)
+    return hit if skip is None else hit & ~skip
+
+
+def own_reach(px, py, cx, cy, r, t, h, vx, vy, placed, swp, tol):
+    """P bool: whether a robot comes closer than ``r - tol`` to the car on an arc of its
+    own circle (centre ``C`` where the robot is at time ``placed``, radius ``r`` its model
+    radius), the arc cut at points ``px[i], py[i]`` (lists of ``k + 1`` arrays, the car
+    there at ``t + i h``), sweep ``swp``; the robot moves at ``V``.
+
+    Relative to the robot the car is at ``r u(t) - V tau`` (``tau = t - placed``), at squared
+    distance ``r^2 - 2 r tau (u . V) + tau^2 |V|^2``: it comes too close iff
+    ``2 r tau (u . V) - tau^2 |V|^2 > 2 r tol - tol^2``. On a sub-arc of angle ``phi``, ``u``
+    is within ``phi / 2`` of its middle's direction ``m``, so ``tau (u . V) <= tau (m . V) +
+    |tau| |V| phi / 2``; the concave bound is maximised in closed form on each sign of
+    ``tau``. Sound (never clear when too close); conservative by at most that term."""
+    xp = xp_of(t, h, swp)
+    k = len(px) - 1
+    phi = swp / k
+    speed2 = vx * vx + vy * vy
+    s2 = xp.where(speed2 > 0, speed2, 1.0)
+    slack = xp.sqrt(speed2) * phi / 2.0
+    eps = 2.0 * r * tol - tol * tol
+    hit = None
+    for i in range(k):
+        mx, my = 0.5 * (px[i] + px[i + 1]) - cx, 0.5 * (py[i] + py[i + 1]) - cy
+        norm = xp.sqrt(mx * mx + my * my)
+        norm = xp.where(norm > 0, norm, 1.0)
+        mv = (mx * vx + my * vy) / norm
+        a, b = t + i * h - placed, t + (i + 1) * h - placed
+        best = None
+        for lo, hi, m in ((xp.maximum(a, 0.0), xp.maximum(b, 0.0), mv + slack),
+                          (xp.minimum(a, 0.0), xp.minimum(b, 0.0), mv - slack)):
+            tau = xp.clip(r * m / s2, lo, hi)
+            q = 2.0 * r * tau * m - tau * tau * speed2
+            best = q if best is None else xp.maximum(best, q)
+        here = (best > eps) & (speed2 > 0)
+        hit = here if hit is None else hit | here
+    return hit
 
 
 # ---------------------------------------------------------------------------
@@ -182,16 +222,25 @@ def violations(d: Any, motion: Any, n: int, subarcs: int = SUBARCS):
     robots = tuple(a.reshape((m, 1, 1)) for a in (
         motion.centres[:, 0], motion.centres[:, 1], motion.velocities[:, 0],
         motion.velocities[:, 1], motion.radii))
+    # An arc on a moving robot's own circle is judged against that robot apart (own_reach).
+    mover_of = jnp.full((n,), -1, jnp.int32).at[motion.index].set(jnp.arange(m, dtype=jnp.int32))
+    own = d.obstacle.T  # (S, B)
+    own_j = jnp.where(own >= 0, mover_of[jnp.maximum(own, 0)], -1)
     total = jnp.zeros(count.shape, jnp.int32)
     for j, p in enumerate(pieces):
         t0 = before[:, j] if j == 0 else before[:-1, j]
         h = p.length / p.cuts / motion.speed
-        hit = _reached(p.xs, p.ys, t0, h, p.err, robots, tol) & (p.length > 0)
+        skip = (jnp.arange(m)[:, None, None] == own_j[None]) if j == 0 else None
+        hit = _reached(p.xs, p.ys, t0, h, p.err, robots, tol, skip) & (p.length > 0)
         total = total + jnp.sum(hit, axis=(0, 1), dtype=jnp.int32)
-    moving = jnp.zeros((n,), bool).at[motion.index].set(True)
-    own = d.obstacle.T  # (S, B)
-    wraps = real_arc & (own >= 0) & moving[jnp.maximum(own, 0)]
-    return total + jnp.sum(wraps, axis=0, dtype=jnp.int32)
+        if j == 0:
+            oj = jnp.maximum(own_j, 0)
+            mine = own_reach(p.xs, p.ys, cx, cy, r, t0, h, motion.velocities[oj, 0],
+                             motion.velocities[oj, 1], motion.placed[oj], swp, tol)
+            total = total + jnp.sum(mine & (own_j >= 0) & (p.length > 0), axis=0,
+                                    dtype=jnp.int32)
+    wraps = real_arc & (own_j >= 0)
+    return total + motion.wrap_penalty * jnp.sum(wraps, axis=0, dtype=jnp.int32)
 
 
 class _Piece(NamedTuple):
@@ -270,22 +319,33 @@ def segment_hits(scenario: Any, segments: Sequence[dict],
                  subarcs: int = HOST_SUBARCS) -> list[tuple[int, int]]:
     """``(segment index, obstacle index from 0)`` of each (segment, moving robot) pair
     that comes closer than ``R - tol`` (float64) while the car is on the segment, by the
-    sound test of the module doc; empty when nothing moves."""
+    sound tests of the module doc (an arc on a moving robot's own circle, where it stands
+    in the tables, by :func:`own_reach`); empty when nothing moves."""
     if not scenario.has_motion:
         return []
     ox, oy, vx, vy, big_r, idx = _robot_arrays(scenario)
+    placed = scenario.placement_times()[idx]
+    px0, py0 = ox + vx * placed, oy + vy * placed
     tol = tolerances(np.float64).length
     robots = (ox[:, None], oy[:, None], vx[:, None], vy[:, None], big_r[:, None])
     found = []
     for ts in timed(segments, float(scenario.speed)):
         if ts.length <= 0.0:
             continue
-        cuts = 1 if ts.segment["type"] == "line" else subarcs
-        xs, ys, err = _segment_points(ts.segment, cuts)
+        seg = ts.segment
+        cuts = 1 if seg["type"] == "line" else subarcs
+        xs, ys, err = _segment_points(seg, cuts)
         h = (ts.t1 - ts.t0) / cuts
         px = [np.array([x]) for x in xs]
         py = [np.array([y]) for y in ys]
-        hit = _reached(px, py, ts.t0, h, np.float64(err), robots, tol)[:, 0]
+        own = np.zeros(idx.size, bool)
+        if seg["type"] == "arc":
+            cx, cy = (float(v) for v in seg["center"])
+            own = (np.hypot(px0 - cx, py0 - cy) < 1e-9) & (np.abs(big_r - seg["radius"]) < 1e-9)
+        hit = _reached(px, py, ts.t0, h, np.float64(err), robots, tol, own[:, None])[:, 0]
+        for j in np.flatnonzero(own):
+            hit[j] = bool(own_reach(px, py, cx, cy, float(big_r[j]), ts.t0, h, vx[j], vy[j],
+                                    placed[j], abs(float(seg["sweep"])), tol)[0])
         found += [(ts.index, int(idx[j])) for j in np.flatnonzero(hit)]
     return found
 

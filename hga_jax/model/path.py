@@ -255,8 +255,9 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
                 backward[0] = not backward[0]
     touched = [Touch(int(d.obstacle[s]) + 1, int(d.circles[s][3])) for s in range(1, count - 1)]
     if scenario.has_motion:  # in time: the float64 check of hga_jax.model.moving
-        where += [{"kind": "moving obstacle wrapped", "segment": None, "obstacle": t.obstacle}
-                  for t in touched if scenario.moving[t.obstacle - 1]]
+        if scenario.wrap_moving == "never":
+            where += [{"kind": "moving obstacle wrapped", "segment": None,
+                       "obstacle": t.obstacle} for t in touched if scenario.moving[t.obstacle - 1]]
         where += [{"kind": "moving obstacle", "segment": i, "obstacle": k + 1}
                   for i, k in moving.segment_hits(scenario, segments)]
     return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where,

@@ -15,11 +15,14 @@ collision)`` adds the scenario's turn table for that collision mode
 
 Robots that move (docs/model.md, "Moving robots"): ``Scenario.velocities`` gives each
 obstacle's velocity (m/s; None or zeros: every robot stands) and ``Scenario.speed`` the
-car's (m/s). A moving robot is no circle of the tight rope: the static rules and tables
-see it as a point circle that blocks nothing (``Scenario.circle_radii``), a chromosome
-that wraps it counts a violation, and its clearance in time is judged by
-:mod:`hga_jax.model.time` from ``ScenarioArrays.motion``. With every velocity 0 the
-arrays are the static ones, bit for bit.
+car's (m/s). The static rules and tables test pieces only against the robots that stand
+(``ScenarioArrays.model_radii`` is 0 for one that moves: :attr:`Scenario.blocking_radii`);
+a moving robot's clearance is judged in time by :mod:`hga_jax.model.moving` from
+``ScenarioArrays.motion``. A chromosome may wrap a moving robot: its circle stands in the
+tables where the robot is when the car passes it (``wrap_moving = "at-pass"``,
+:meth:`Scenario.placement_times`); ``"never"`` makes it a point that a chromosome wraps
+only at the cost of a violation (the alternative measured in docs/model.md). With every
+velocity 0 the arrays are the static ones, bit for bit.
 """
 from __future__ import annotations
 
@@ -63,6 +66,7 @@ class Scenario:
     car: str = "dubins"  # "dubins" (forward only) or "reeds-shepp" (also backward)
     velocities: np.ndarray | None = None  # (n, 2) obstacle velocities, m/s (None: all stand)
     speed: float = 1.0  # the car's constant speed along its path, m/s
+    wrap_moving: str = "at-pass"  # how a chromosome wraps a moving robot (WRAP_MOVING)
     _arrays: dict[Any, "ScenarioArrays"] = dataclasses.field(
         default_factory=dict, init=False, repr=False, compare=False)  # per dtype, built once
     _turns: dict[Any, Any] = dataclasses.field(
@@ -92,10 +96,48 @@ class Scenario:
 
     @property
     def circle_radii(self) -> np.ndarray:
-        """The radii of the obstacles' circles in the static tables (m): ``R_i`` for a
-        robot that stands, 0 for one that moves (a point that blocks nothing; its
-        clearance is judged in time, :mod:`hga_jax.model.time`)."""
+        """The radii of the obstacles' circles in the tables (m): ``R_i``, and 0 for a
+        robot that moves where chromosomes never wrap one (``wrap_moving = "never"``)."""
+        if self.wrap_moving == "never":
+            return np.where(self.moving, 0.0, self.model_radii)
+        return self.model_radii
+
+    @property
+    def blocking_radii(self) -> np.ndarray:
+        """The radii the static rules test pieces against (m): ``R_i`` for a robot that
+        stands, 0 for one that moves (it blocks nothing in space; :mod:`hga_jax.model.moving`
+        judges it in time)."""
         return np.where(self.moving, 0.0, self.model_radii)
+
+    def placement_times(self) -> np.ndarray:
+        """(n,) the moment (s) at which each robot's circle stands in the tables: 0 for a
+        robot that stands; for one that moves (``wrap_moving = "at-pass"``) the moment the
+        standing robots' shortest path passes it closest (where it is when the car
+        reaches it), else (no such path) its distance from the start over the speed."""
+        def build():
+            times = np.zeros(self.n)
+            if not self.has_motion or self.wrap_moving == "never":
+                return times
+            from . import exact, moving
+
+            opt = exact.solve(self.still_scene(), "full")
+            movers = np.flatnonzero(self.moving)
+            if opt.feasible and opt.segments:
+                for a in moving.closest_approach(self, opt.segments, spacing=5e-3):
+                    times[a.obstacle] = a.time
+            else:
+                times[movers] = np.hypot(*(self.centres[movers] - self.start[:2]).T) / self.speed
+            return times
+
+        return self.cached("placement times", build)
+
+    def placed_centres(self) -> np.ndarray:
+        """(n, 2) the centres of the obstacles' circles in the tables (m): each robot where
+        it is at its :meth:`placement_times`."""
+        if not self.has_motion:
+            return self.centres
+        vel = np.asarray(self.velocities, float).reshape(self.n, 2)
+        return self.centres + vel * self.placement_times()[:, None]
 
     def still_scene(self) -> "Scenario":
         """The scenario with only its standing robots (the same poses, field and car):
@@ -125,7 +167,9 @@ class Scenario:
         return Motion(centres=np.asarray(self.centres[idx], dtype).reshape(-1, 2),
                       velocities=np.asarray(self.velocities, dtype).reshape(self.n, 2)[idx],
                       radii=np.asarray(self.model_radii[idx], dtype),
-                      index=idx.astype(np.int32), speed=np.asarray(self.speed, dtype))
+                      index=idx.astype(np.int32), speed=np.asarray(self.speed, dtype),
+                      placed=np.asarray(self.placement_times()[idx], dtype),
+                      wrap_penalty=np.asarray(self.wrap_moving == "never", np.int32))
 
     @property
     def delta(self) -> float:
@@ -214,22 +258,32 @@ class Scenario:
         return self._turns[key]
 
     def _parts(self, dtype: np.dtype) -> tuple[np.ndarray, ...]:
-        """start, goal, centres, model_radii, rho, bounds as numpy arrays of ``dtype``."""
+        """start, goal, centres, model_radii, rho, bounds as numpy arrays of ``dtype``
+        (among robots that move: the circles' :meth:`placed_centres` and
+        :attr:`circle_radii`)."""
         start, goal = np.asarray(self.start, dtype), np.asarray(self.goal, dtype)
-        centres = np.asarray(self.centres, dtype).reshape(self.n, 2)
-        model_radii = np.asarray(self.circle_radii if self.has_motion else self.model_radii,
+        moves = self.has_motion
+        centres = np.asarray(self.placed_centres() if moves else self.centres,
+                             dtype).reshape(self.n, 2)
+        model_radii = np.asarray(self.circle_radii if moves else self.model_radii,
                                  dtype).reshape(self.n)
         return (start, goal, centres, model_radii, np.asarray(self.min_turn_radius, dtype),
                 np.asarray(self.bounds, dtype))
 
     def _build_arrays(self, dtype: np.dtype) -> "ScenarioArrays":
         start, goal, centres, model_radii, rho, box = self._parts(dtype)
+        if not self.has_motion:
+            return ScenarioArrays(
+                start=start, goal=goal, centres=centres, model_radii=model_radii, rho=rho,
+                bounds=box, delta=np.asarray(self.delta, dtype),
+                tangents=tangents.build(start, goal, centres, model_radii, rho, box))
+        # In time: circles of every robot (where placed), static rules against those that stand.
+        blocking = np.asarray(self.blocking_radii, dtype).reshape(self.n)
+        circles = tangents.oriented_circles(start, goal, centres, model_radii, rho)
         return ScenarioArrays(
-            start=start, goal=goal, centres=centres, model_radii=model_radii, rho=rho,
+            start=start, goal=goal, centres=centres, model_radii=blocking, rho=rho,
             bounds=box, delta=np.asarray(self.delta, dtype),
-            tangents=tangents.build(start, goal, centres, model_radii, rho, box),
-            motion=self.motion(dtype),
-        )
+            tangents=tangents.table(circles, centres, blocking, box), motion=self.motion(dtype))
 
 
 class Motion(NamedTuple):
@@ -239,7 +293,10 @@ class Motion(NamedTuple):
 
     centres: (m, 2) at time 0 (m). velocities: (m, 2) (m/s). radii: (m,) model radii
     ``R_j`` (m). index: (m,) int32 their obstacle indices in the scenario (from 0).
-    speed: () the car's speed along its path (m/s).
+    speed: () the car's speed along its path (m/s). placed: (m,) the moment whose
+    position each robot's circle takes in the tables (s, :meth:`Scenario.placement_times`).
+    wrap_penalty: () int32, 1 where a chromosome that wraps a moving robot counts a
+    violation (``wrap_moving = "never"``), else 0.
     """
 
     centres: Any
@@ -247,6 +304,12 @@ class Motion(NamedTuple):
     radii: Any
     index: Any
     speed: Any
+    placed: Any
+    wrap_penalty: Any
+
+
+WRAP_MOVING = ("at-pass", "never")
+"""How a chromosome may wrap a moving robot (``Scenario.wrap_moving``, module doc)."""
 
 
 class ScenarioArrays(NamedTuple):
