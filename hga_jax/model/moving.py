@@ -31,7 +31,7 @@ comes closer than ``R_j - tol``.
 pieces of every slot in travel order are the arc on its circle, then its leg's line to
 the free circle, the free arc and the line on (a tangent leg is the first line alone; the
 forward car's free leg the free arc alone). :func:`segment_hits` is the float64 host
-check over the segments of the result files, with ``HOST_SUBARCS`` sub-arcs, which
+check over the segments of the result files, with sub-arcs of at most ``HOST_SUB_ANGLE``, which
 re-verifies every reported path; :func:`closest_approach` samples a path densely (plots
 and the independent check of the tests).
 """
@@ -51,9 +51,9 @@ that close)."""
 SUBARCS_64 = 64
 """Sub-arcs per arc in the float64 decoder that re-evaluates every run's best (23 micrometres
 for a quarter turn of 0.3 m)."""
-HOST_SUBARCS = 256
-"""Sub-arcs per arc in the float64 path check of the result files (1.4 micrometres for a
-quarter turn of 0.3 m)."""
+HOST_SUB_ANGLE = 2.0 * math.pi / 1024
+"""The largest sub-arc (rad) of the float64 path check of the result files: a chord error of
+at most ``r * 4.7e-6`` (1.4 micrometres at 0.3 m)."""
 
 
 def subarcs_of(dtype: Any) -> int:
@@ -316,38 +316,55 @@ def _segment_points(seg: dict, cuts: int):
 
 
 def segment_hits(scenario: Any, segments: Sequence[dict],
-                 subarcs: int = HOST_SUBARCS) -> list[tuple[int, int]]:
+                 sub_angle: float = HOST_SUB_ANGLE) -> list[tuple[int, int]]:
     """``(segment index, obstacle index from 0)`` of each (segment, moving robot) pair
     that comes closer than ``R - tol`` (float64) while the car is on the segment, by the
-    sound tests of the module doc (an arc on a moving robot's own circle, where it stands
-    in the tables, by :func:`own_reach`); empty when nothing moves."""
+    sound tests of the module doc (arcs cut into sub-arcs of at most ``sub_angle`` rad; an
+    arc on a moving robot's own circle, where it stands in the tables, by
+    :func:`own_reach`); empty when nothing moves. All pieces at once (numpy)."""
     if not scenario.has_motion:
         return []
     ox, oy, vx, vy, big_r, idx = _robot_arrays(scenario)
-    placed = scenario.placement_times()[idx]
-    px0, py0 = ox + vx * placed, oy + vy * placed
     tol = tolerances(np.float64).length
-    robots = (ox[:, None], oy[:, None], vx[:, None], vy[:, None], big_r[:, None])
-    found = []
+    parts, owned = [], []  # per segment: (x0, y0, x1, y1, t0, h, err), own arcs apart
+    placed = None
     for ts in timed(segments, float(scenario.speed)):
         if ts.length <= 0.0:
             continue
         seg = ts.segment
-        cuts = 1 if seg["type"] == "line" else subarcs
+        cuts = 1 if seg["type"] == "line" else max(1, math.ceil(abs(seg["sweep"]) / sub_angle))
         xs, ys, err = _segment_points(seg, cuts)
         h = (ts.t1 - ts.t0) / cuts
-        px = [np.array([x]) for x in xs]
-        py = [np.array([y]) for y in ys]
         own = np.zeros(idx.size, bool)
         if seg["type"] == "arc":
             cx, cy = (float(v) for v in seg["center"])
-            own = (np.hypot(px0 - cx, py0 - cy) < 1e-9) & (np.abs(big_r - seg["radius"]) < 1e-9)
-        hit = _reached(px, py, ts.t0, h, np.float64(err), robots, tol, own[:, None])[:, 0]
-        for j in np.flatnonzero(own):
-            hit[j] = bool(own_reach(px, py, cx, cy, float(big_r[j]), ts.t0, h, vx[j], vy[j],
-                                    placed[j], abs(float(seg["sweep"])), tol)[0])
-        found += [(ts.index, int(idx[j])) for j in np.flatnonzero(hit)]
-    return found
+            # a circle of a moving robot's radius on its track: where it stands in the tables?
+            on_track = (np.abs(big_r - seg["radius"]) < 1e-9) & (
+                np.abs((cx - ox) * vy - (cy - oy) * vx) <= 1e-9 * (1.0 + np.hypot(vx, vy)))
+            if on_track.any():
+                if placed is None:
+                    placed = scenario.placement_times()[idx]
+                at = on_track & (np.hypot(ox + vx * placed - cx, oy + vy * placed - cy) < 1e-9)
+                for j in np.flatnonzero(at):
+                    owned.append((ts.index, j, own_reach(
+                        list(xs), list(ys), cx, cy, float(big_r[j]), ts.t0, h, vx[j], vy[j],
+                        placed[j], abs(float(seg["sweep"])), tol)))
+                own = at
+        steps = np.arange(cuts)
+        parts.append((ts.index, xs[:-1], ys[:-1], xs[1:], ys[1:], ts.t0 + steps * h, h, err, own))
+    if not parts:
+        return []
+    seg_of = np.concatenate([np.full(len(p[1]), p[0]) for p in parts])
+    x0, y0, x1, y1, t0 = (np.concatenate([p[i] for p in parts]) for i in range(1, 6))
+    h = np.concatenate([np.full(len(p[1]), p[6]) for p in parts])
+    err = np.concatenate([np.full(len(p[1]), p[7]) for p in parts])
+    skip = np.concatenate([np.repeat(p[8][:, None], len(p[1]), axis=1) for p in parts], axis=1)
+    d2 = chord_reach(x0, y0, x1, y1, t0, h, ox[:, None], oy[:, None], vx[:, None], vy[:, None])
+    reach = np.maximum(big_r[:, None] - tol + err, 0.0)
+    close = (d2 < reach * reach) & ~skip  # (m, pieces)
+    hits = {(int(seg_of[i]), int(idx[j])) for j, i in zip(*np.nonzero(close))}
+    hits |= {(int(i), int(idx[j])) for i, j, hit in owned if bool(hit)}
+    return sorted(hits)
 
 
 def sample(segments: Sequence[dict], speed: float, spacing: float = 1e-3):

@@ -154,9 +154,12 @@ def _solved(scene: Any, static_solve: Callable[[Any], Any]) -> _Found | None:
 
 def _on_scenario(scenario: Any, scene: Any, result: Any) -> Path | None:
     """``result``'s path (an optimum of ``scene``, whose first robots are ``scenario``'s
-    standing robots in order) as a chromosome of ``scenario`` evaluated in float64, in
-    time; None when it has no chromosome or wraps a robot ``scenario`` does not stand
-    (a frozen copy): then only its segments are reported."""
+    standing robots in order) as a path of ``scenario``: the same pieces, its chromosome
+    and touches numbered as ``scenario``'s robots (the moving ones last, untouched). Its
+    static violations are the scene's (the same standing robots and field) and it is
+    called only for paths the float64 check found clear in time. None when it has no
+    chromosome or wraps a robot ``scenario`` does not stand (a frozen copy): then only
+    its segments are reported."""
     found = result.path
     if found is None or found.upper is None:
         return None
@@ -168,14 +171,15 @@ def _on_scenario(scenario: Any, scene: Any, result: Any) -> Path | None:
     touched = [t.obstacle - 1 for t in found.touched]
     order = [int(still_index[k]) for k in touched]
     rest = [k for k in range(scenario.n) if k not in set(order)]
-    perm = np.asarray(order + rest, np.int32)
     lower = ([found.lower[0]] + [found.lower[at[k]] for k in touched] + [0] * len(rest)
              + [found.lower[-1]])
     legs = None
     if found.legs is not None:  # positional: each touched position keeps its gene
         legs = ([found.legs[0]] + [found.legs[at[k]] for k in touched] + [0] * len(rest)
                 + [found.legs[-1]])
-    return evaluate_path(scenario, perm, np.asarray(lower, np.int32), result.collision, legs)
+    upper, lower = chromosome(np.asarray(order + rest), lower)
+    return Path(found.length, found.violations, upper, lower, found.segments,
+                touched_in(scenario, found.touched), [], legs)
 
 
 def touched_in(scenario: Any, touched: list[Touch]) -> list[Touch]:
