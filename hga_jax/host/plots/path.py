@@ -14,6 +14,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 from hga_jax.model import car_model
 from hga_jax.model.scenario import Scenario
 from .labels import place_labels
+from .moving_robots import draw_robots, draw_time_marks, place_time_labels
 from .style import C_ARC, C_BAD, C_FREE, C_GOAL, C_LINE, C_OPT, C_START, C_TOUCH, EDGE_PAD_PT
 
 PTS_PER_RAD = 60  # arc sampling density
@@ -60,11 +61,14 @@ def segment_points(seg: Mapping[str, Any]) -> np.ndarray:
     raise ValueError(f"unknown segment type {seg['type']!r}")
 
 
-def _touches(touched: Iterable[Any], n: int) -> dict[int, int]:
+def _touches(touched: Iterable[Any], n: int, copies: bool = False) -> dict[int, int]:
     """``touched`` -> {obstacle index from 0: label}.
 
     Items are the result files' ``{"obstacle": number from 1, "label": +1 | -1}`` or
     ``(number from 1, label)`` pairs (``Path.touched``, ``ExactResult.touched``).
+    ``copies``: numbers past ``n`` are frozen copies of moving robots (the exact
+    solver's path among robots that move, :mod:`hga_jax.model.moving_optimum`), which
+    the result files do not place: left out.
     """
     out = {}
     for item in touched:
@@ -75,6 +79,8 @@ def _touches(touched: Iterable[Any], n: int) -> dict[int, int]:
         else:
             raise TypeError("touched: items must be {'obstacle': number from 1, 'label': +1 "
                             f"or -1}} as in result.json, or (number from 1, label), got {item!r}")
+        if copies and k >= n:
+            continue
         if not 0 <= k < n:
             raise ValueError(f"touched: obstacle must be in 1..{n}, got number {k + 1}")
         out[k] = label
@@ -114,6 +120,13 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     that would hide it, and each CW/CCW tag takes the place round its obstacle,
     between body and model circle, clearest of the other obstacles' circles and of
     the other labels. The view widens along x or y to fill the axes at equal aspect.
+
+    Robots that move (``scenario.has_motion``; :mod:`.moving_robots`): each is drawn
+    where it is when the car, driving the path at ``scenario.speed`` from time 0, passes
+    closest, with its track over the path's duration, its place at time 0, its direction
+    of motion and the car's point then; its model circle is red where it meets the car.
+    Time marks along the path say when the car is where. A scene where nothing moves is
+    drawn without any of these.
     """
     if ax is None:
         fig = Figure(figsize=(8.0, 5.6), layout="constrained")
@@ -133,9 +146,17 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
             ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, ec="0.4", lw=0.8,
                                    ls="-.", gid="field_inner"))
         pts.append(np.asarray([[f.xmin, f.ymin], [f.xmax, f.ymax]]))
-    touch = _touches(touched, scenario.n)
+    touch = _touches(touched, scenario.n, copies=scenario.has_motion)
     numbers, tags = [], {}
+    still = ~scenario.moving
+    robots = None
+    if scenario.has_motion:  # arrows sized by the scene at time 0
+        ext = np.concatenate(pts + [centres - model[:, None], centres + model[:, None]])
+        robots = draw_robots(ax, scenario, segments, float(np.ptp(ext, axis=0).max()) or 1.0)
     for i, (c, ri, Ri) in enumerate(zip(centres, radii, model)):
+        if not still[i]:  # where it is when the car passes closest
+            numbers.append(robots.numbers[i])
+            continue
         hit = i in touch
         ax.add_patch(Circle(c, ri, fc="0.86", ec="0.55", lw=0.8, zorder=2, gid="obstacle"))
         ax.add_patch(Circle(c, Ri, fill=False, ls="-" if hit else "--", lw=2.0 if hit else 0.8,
@@ -150,6 +171,8 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
                               bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none",
                                         alpha=0.75))  # legible on a line it may sit on
         pts.append(np.asarray([c - Ri, c + Ri]))
+    if robots is not None:
+        pts += robots.points
     span0 = np.ptp(np.concatenate(pts), axis=0).max() if len(pts) > 1 else 1.0
     span = float(span0) if span0 > 0 else 1.0
     turning = list(zip(*scenario.circles(np.float64)[:3]))  # start CCW, CW, goal CCW, CW
@@ -186,6 +209,10 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
             label = "_nolegend_"
             pts.append(xy)
     crosses = _violations(ax, list(violations_at), drawn, centres, model)
+    marks = None
+    if robots is not None:
+        crosses += robots.crosses
+        marks = draw_time_marks(ax, scenario, segments, span)
     allp = np.concatenate(pts)
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     pad = 0.03 * float(max(hi - lo))
@@ -199,24 +226,30 @@ def plot_path(scenario: Scenario, segments: Sequence[Mapping[str, Any]], *,
     ax.set_ylabel("y (m)")
     ax.set_title(scenario.name if title is None else title)
     handles = []  # what is drawn, and only that
-    if scenario.n:
+    n_still = int(still.sum())
+    if n_still:
         handles.append(Line2D([], [], marker="o", ls="", mfc="0.86", mec="0.55", ms=9,
                               label="obstacle (robot)"))
-    if len(touch) < scenario.n:
+    if sum(bool(still[k]) for k in touch) < n_still:
         handles.append(Line2D([], [], ls="--", color="0.45", lw=0.8, label="model circle"))
     handles.append(Line2D([], [], ls=":", color="0.3", lw=0.8, label=r"turning circles ($\rho$)"))
-    if touch:
+    if any(still[k] for k in touch):
         handles.append(Line2D([], [], color=C_TOUCH, lw=2.0, label="touched (CW/CCW)"))
     if f is not None:
         handles.append(Line2D([], [], color="black", lw=1.2, label="field"))
         if f.keep_inside:
             handles.append(Line2D([], [], color="0.4", lw=0.8, ls="-.", label="field shrunk by r"))
+    if robots is not None:
+        handles += robots.handles + marks.handles
     h, _ = ax.get_legend_handles_labels()
     ax.legend(handles=h + handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
               fontsize=8, frameon=False)
     for t in numbers + list(tags.values()):  # inside the view: nothing for the layout
         t.set_in_layout(False)
-    place_labels(ax, (lo - pad, hi + pad), centres, radii, model, numbers, tags, crosses)
+    place_labels(ax, (lo - pad, hi + pad), centres if robots is None else robots.centres,
+                 radii, model, numbers, tags, crosses)
+    if marks is not None:  # off the circles and labels, as laid out
+        place_time_labels(ax, marks, np.c_[robots.centres, model])
     return fig
 
 
