@@ -150,8 +150,9 @@ def _check_pose(s: Scenario, pose: tuple[float, float, float], source: str, key:
             continue
         d = math.dist((x, y), c)
         if d < big_r - TOL:
+            when = " (a robot that moves, where it is at time 0)" if moves else ""
             raise _error(source, key, f"point ({x:g}, {y:g}) is inside the model circle "
-                         f"of obstacles[{i}] (distance {d:.6g} < R {big_r:.6g})")
+                         f"of obstacles[{i}]{when} (distance {d:.6g} < R {big_r:.6g})")
     xmin, xmax, ymin, ymax = s.bounds
     if not (xmin - TOL <= x <= xmax + TOL and ymin - TOL <= y <= ymax + TOL):
         raise _error(source, key, f"point ({x:g}, {y:g}) is outside the field shrunk "
