@@ -206,7 +206,7 @@ def exact_summary(scenario: Scenario, opt: Any) -> str:
     took = f"solved in {1000 * opt.seconds:.1f} ms"
     if scenario.has_motion and not opt.optimal:
         return (f"scenario {scenario.name} ({count(scenario.n, 'obstacle')}, "
-                f"{count(int(scenario.moving.sum()), 'moving')}), collision {opt.collision}: "
+                f"{int(scenario.moving.sum())} moving), collision {opt.collision}: "
                 f"lower bound {opt.lower_bound:.6f} m (the standing robots' optimum, which "
                 f"meets a moving robot in time), not certified; {moving_line(opt)}; {took}")
     if not opt.feasible:

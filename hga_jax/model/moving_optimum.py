@@ -35,6 +35,10 @@ from .touch import Touch
 
 ROUNDS = 8
 """Rounds of conflict freezing (each adds the robots met in time and solves again)."""
+PAD = 16
+"""The frozen scenes' robot counts are padded to a multiple of this (module code)."""
+FAR = 1e4
+"""m: where the padding robots stand (far from any scene)."""
 
 
 def solve(scenario: Any, collision: str, static_solve: Callable[[Any], Any]) -> Any:
@@ -142,8 +146,14 @@ def _with_copies(still: Any, copies: list, scenario: Any) -> Any | None:
         keep_r.append(float(r))
     if not keep_c:
         return still
-    return dataclasses.replace(still, centres=np.vstack([still.centres, keep_c]),
-                               radii=np.concatenate([still.radii, keep_r]), velocities=None)
+    # Padded to a multiple of PAD robots with robots far away, which no path touches: the
+    # float64 decoder compiles once per robot count, not once per round.
+    pad = -(still.n + len(keep_c)) % PAD
+    far = [np.array([FAR + 10.0 * k, FAR]) for k in range(pad)]
+    return dataclasses.replace(
+        still, centres=np.vstack([still.centres, *keep_c, *far]),
+        radii=np.concatenate([still.radii, keep_r, np.full(pad, still.robot_radius)]),
+        velocities=None)
 
 
 def _solved(scene: Any, static_solve: Callable[[Any], Any]) -> _Found | None:
