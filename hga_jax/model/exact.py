@@ -198,8 +198,8 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = car_model.DE
 
         if car is not None and car != scenario.car:
             scenario = dataclasses.replace(scenario, car=car)
-        return moving_optimum.solve(scenario, collision,
-                                    lambda scene: model.solve(scene, collision))
+        return scenario.cached(("moving optimum", collision, turns), lambda: moving_optimum.solve(
+            scenario, collision, lambda scene: model.solve(scene, collision)))
     return model.solve(scenario, collision)
 
 

@@ -320,14 +320,15 @@ def segment_hits(scenario: Any, segments: Sequence[dict],
     """``(segment index, obstacle index from 0)`` of each (segment, moving robot) pair
     that comes closer than ``R - tol`` (float64) while the car is on the segment, by the
     sound tests of the module doc (arcs cut into sub-arcs of at most ``sub_angle`` rad; an
-    arc on a moving robot's own circle, where it stands in the tables, by
-    :func:`own_reach`); empty when nothing moves. All pieces at once (numpy)."""
+    arc round a moving robot's centre at some moment, where its circle stands in the
+    tables or a frozen copy of it, by :func:`own_reach`); empty when nothing moves. All
+    pieces at once (numpy)."""
     if not scenario.has_motion:
         return []
     ox, oy, vx, vy, big_r, idx = _robot_arrays(scenario)
     tol = tolerances(np.float64).length
     parts, owned = [], []  # per segment: (x0, y0, x1, y1, t0, h, err), own arcs apart
-    placed = None
+    speed2 = vx * vx + vy * vy
     for ts in timed(segments, float(scenario.speed)):
         if ts.length <= 0.0:
             continue
@@ -337,19 +338,16 @@ def segment_hits(scenario: Any, segments: Sequence[dict],
         h = (ts.t1 - ts.t0) / cuts
         own = np.zeros(idx.size, bool)
         if seg["type"] == "arc":
+            # An arc round a moving robot's centre at some moment t* (its circle in the
+            # tables, or a frozen copy): judged against that robot by own_reach.
             cx, cy = (float(v) for v in seg["center"])
-            # a circle of a moving robot's radius on its track: where it stands in the tables?
-            on_track = (np.abs(big_r - seg["radius"]) < 1e-9) & (
-                np.abs((cx - ox) * vy - (cy - oy) * vx) <= 1e-9 * (1.0 + np.hypot(vx, vy)))
-            if on_track.any():
-                if placed is None:
-                    placed = scenario.placement_times()[idx]
-                at = on_track & (np.hypot(ox + vx * placed - cx, oy + vy * placed - cy) < 1e-9)
-                for j in np.flatnonzero(at):
-                    owned.append((ts.index, j, own_reach(
-                        list(xs), list(ys), cx, cy, float(big_r[j]), ts.t0, h, vx[j], vy[j],
-                        placed[j], abs(float(seg["sweep"])), tol)))
-                own = at
+            when = ((cx - ox) * vx + (cy - oy) * vy) / np.where(speed2 > 0, speed2, 1.0)
+            own = (np.abs(big_r - seg["radius"]) < 1e-9) & (speed2 > 0) & (
+                np.hypot(ox + vx * when - cx, oy + vy * when - cy) < 1e-9)
+            for j in np.flatnonzero(own):
+                owned.append((ts.index, j, own_reach(
+                    list(xs), list(ys), cx, cy, float(big_r[j]), ts.t0, h, vx[j], vy[j],
+                    when[j], abs(float(seg["sweep"])), tol)))
         steps = np.arange(cuts)
         parts.append((ts.index, xs[:-1], ys[:-1], xs[1:], ys[1:], ts.t0 + steps * h, h, err, own))
     if not parts:
@@ -365,6 +363,27 @@ def segment_hits(scenario: Any, segments: Sequence[dict],
     hits = {(int(seg_of[i]), int(idx[j])) for j, i in zip(*np.nonzero(close))}
     hits |= {(int(i), int(idx[j])) for i, j, hit in owned if bool(hit)}
     return sorted(hits)
+
+
+def moments_wrapped(scenario: Any, segments: Sequence[dict]) -> dict[int, float]:
+    """``{obstacle index from 0: t*}`` for each moving robot that an arc of the path turns
+    round where the robot is at the moment ``t*`` (s): the arc's radius is the robot's
+    model radius and its centre the robot's centre then (to 1e-9 m)."""
+    if not scenario.has_motion:
+        return {}
+    ox, oy, vx, vy, big_r, idx = _robot_arrays(scenario)
+    speed2 = vx * vx + vy * vy
+    out: dict[int, float] = {}
+    for seg in segments:
+        if seg["type"] != "arc":
+            continue
+        cx, cy = (float(v) for v in seg["center"])
+        when = ((cx - ox) * vx + (cy - oy) * vy) / np.where(speed2 > 0, speed2, 1.0)
+        on = (np.abs(big_r - seg["radius"]) < 1e-9) & (speed2 > 0) & (
+            np.hypot(ox + vx * when - cx, oy + vy * when - cy) < 1e-9)
+        for j in np.flatnonzero(on):
+            out.setdefault(int(idx[j]), float(when[j]))
+    return out
 
 
 def sample(segments: Sequence[dict], speed: float, spacing: float = 1e-3):

@@ -66,7 +66,7 @@ class Scenario:
     car: str = "dubins"  # "dubins" (forward only) or "reeds-shepp" (also backward)
     velocities: np.ndarray | None = None  # (n, 2) obstacle velocities, m/s (None: all stand)
     speed: float = 1.0  # the car's constant speed along its path, m/s
-    wrap_moving: str = "at-pass"  # how a chromosome wraps a moving robot (WRAP_MOVING)
+    wrap_moving: str = "at-best"  # how a chromosome wraps a moving robot (WRAP_MOVING)
     _arrays: dict[Any, "ScenarioArrays"] = dataclasses.field(
         default_factory=dict, init=False, repr=False, compare=False)  # per dtype, built once
     _turns: dict[Any, Any] = dataclasses.field(
@@ -111,22 +111,27 @@ class Scenario:
 
     def placement_times(self) -> np.ndarray:
         """(n,) the moment (s) at which each robot's circle stands in the tables: 0 for a
-        robot that stands; for one that moves (``wrap_moving = "at-pass"``) the moment the
-        standing robots' shortest path passes it closest (where it is when the car
-        reaches it), else (no such path) its distance from the start over the speed."""
+        robot that stands. For one that moves, where the car passes it on a reference
+        path: with ``wrap_moving = "at-best"`` the shortest path known to be feasible in
+        time (the exact module's: the certified optimum, or its best path, whose turns
+        round a robot's position at some moment give that moment), with ``"at-pass"`` the
+        standing robots' shortest path; the moment of closest approach along it. Without
+        a reference path: its distance from the start over the speed."""
         def build():
             times = np.zeros(self.n)
             if not self.has_motion or self.wrap_moving == "never":
                 return times
             from . import exact, moving
 
-            opt = exact.solve(self.still_scene(), "full")
             movers = np.flatnonzero(self.moving)
-            if opt.feasible and opt.segments:
-                for a in moving.closest_approach(self, opt.segments, spacing=5e-3):
+            times[movers] = np.hypot(*(self.centres[movers] - self.start[:2]).T) / self.speed
+            ref = exact.solve(self if self.wrap_moving == "at-best" else self.still_scene(),
+                              "full")
+            if ref.feasible and ref.segments:
+                for a in moving.closest_approach(self, ref.segments, spacing=5e-3):
                     times[a.obstacle] = a.time
-            else:
-                times[movers] = np.hypot(*(self.centres[movers] - self.start[:2]).T) / self.speed
+                for k, t in moving.moments_wrapped(self, ref.segments).items():
+                    times[k] = t
             return times
 
         return self.cached("placement times", build)
@@ -308,7 +313,7 @@ class Motion(NamedTuple):
     wrap_penalty: Any
 
 
-WRAP_MOVING = ("at-pass", "never")
+WRAP_MOVING = ("at-best", "at-pass", "never")
 """How a chromosome may wrap a moving robot (``Scenario.wrap_moving``, module doc)."""
 
 
