@@ -192,8 +192,9 @@ def test_only_moving_robots_and_no_path():
 
 def test_exact_path_among_moving_robots_is_drawn():
     # The standing robots' optimum (straight on) meets robot 2; the exact solver's best
-    # path known wraps a frozen copy of it, numbered past the scene's 2 robots.
-    sc = _scene()
+    # path known wraps a frozen copy of it, numbered past the scene's 2 robots where no
+    # chromosome's circle of robot 2 stands there (wrap_moving "at-pass").
+    sc = dataclasses.replace(_scene(), wrap_moving="at-pass")
     opt = solve(sc)
     assert opt.feasible and not opt.optimal and opt.length > 3.0
     assert any(t.obstacle > sc.n for t in opt.touched)

@@ -15,7 +15,8 @@ scenes that freeze the moving robots where they get in the way:
   in time is added as a standing robot where it is at the moment of the conflict, and the
   scene is solved again (up to ``ROUNDS`` times, copies accumulating);
 - the tracks: each moving robot as standing robots along its track over the time the
-  still optimum takes and half again, a copy every half model radius.
+  still optimum takes and half again, a copy every half model radius or, where that
+  makes more than ``TRACK_COPIES`` in all, fewer.
 
 Each candidate is re-checked in time on the scenario itself; a candidate that wraps a
 frozen copy has no chromosome (only its segments are reported). Host code.
@@ -35,6 +36,10 @@ from .touch import Touch
 
 ROUNDS = 8
 """Rounds of conflict freezing (each adds the robots met in time and solves again)."""
+TRACK_COPIES = 48
+"""At most this many copies of the moving robots along their tracks (about; at least two
+each): a copy every half model radius, fewer where the tracks are long (the static
+scene's tables grow with the cube of its robots)."""
 PAD = 16
 """The frozen scenes' robot counts are padded to a multiple of this (module code)."""
 FAR = 1e4
@@ -57,7 +62,7 @@ def solve(scenario: Any, collision: str, static_solve: Callable[[Any], Any]) -> 
             best_expressible=path, expressible=path is not None,
             upper=None if path is None else path.upper,
             lower=None if path is None else path.lower,
-            touched=touched_in(scenario, bound.touched),
+            touched=touched_in(scenario, bound.touched) if path is None else path.touched,
             segments=bound.segments if path is None else path.segments, optimal=True, lower_bound=bound.length, seconds=time.perf_counter() - t0,
             message="optimal: the standing robots' optimum keeps clear of every moving robot "
                     "in time")
@@ -84,7 +89,8 @@ def solve(scenario: Any, collision: str, static_solve: Callable[[Any], Any]) -> 
         best.result, length=best.length, feasible=True, expressible=expressible,
         walk_length=best.length,
         upper=path.upper if expressible else None, lower=path.lower if expressible else None,
-        touched=touched_in(scenario, best.result.touched), path=path,
+        touched=path.touched if expressible else touched_in(scenario, best.result.touched),
+        path=path,
         best_expressible=path, segments=best.result.segments, optimal=False,
         lower_bound=bound.length, seconds=spent,
         message=note + f"; the path is the shortest known feasible in time ({how})")
@@ -121,9 +127,11 @@ def _candidates(scenario: Any, still: Any, bound: Any, static_solve: Callable[[A
         segments = found.segments
     horizon = 1.5 * bound.length / float(scenario.speed)
     track = []
+    each = max(2, TRACK_COPIES // max(len(movers), 1))
     for j in movers:
-        step = 0.5 * float(scenario.model_radii[j]) / max(float(np.hypot(*vel[j])), 1e-9)
-        for t in np.arange(0.0, horizon + step, step):
+        v = max(float(np.hypot(*vel[j])), 1e-9)
+        step = max(0.5 * float(scenario.model_radii[j]) / v, horizon / (each - 1))
+        for t in np.arange(0.0, horizon + 0.5 * step, step):
             track.append((centres[j] + vel[j] * t, scenario.radii[j]))
     yield "the tracks", _solved(_with_copies(still, track, scenario), static_solve)
 
@@ -173,13 +181,15 @@ def _on_scenario(scenario: Any, scene: Any, result: Any) -> Path | None:
     found = result.path
     if found is None or found.upper is None:
         return None
-    still_index = scenario.still_index
-    if any(t.obstacle > still_index.size for t in found.touched):
+    number = _numbers(scenario, scene)  # the scene's robots as the scenario's (from 0)
+    touched_in_scene = [t.obstacle - 1 for t in found.touched]
+    if any(number.get(k) is None for k in touched_in_scene) or len(
+            {number[k] for k in touched_in_scene}) < len(touched_in_scene):
         return None
     inner = [u - 1 for u in found.upper[1:-1]]  # the scene's obstacles in position order
     at = {k: i + 1 for i, k in enumerate(inner)}  # obstacle -> its position
-    touched = [t.obstacle - 1 for t in found.touched]
-    order = [int(still_index[k]) for k in touched]
+    touched = touched_in_scene
+    order = [number[k] for k in touched]
     rest = [k for k in range(scenario.n) if k not in set(order)]
     lower = ([found.lower[0]] + [found.lower[at[k]] for k in touched] + [0] * len(rest)
              + [found.lower[-1]])
@@ -188,8 +198,26 @@ def _on_scenario(scenario: Any, scene: Any, result: Any) -> Path | None:
         legs = ([found.legs[0]] + [found.legs[at[k]] for k in touched] + [0] * len(rest)
                 + [found.legs[-1]])
     upper, lower = chromosome(np.asarray(order + rest), lower)
-    return Path(found.length, found.violations, upper, lower, found.segments,
-                touched_in(scenario, found.touched), [], legs)
+    touches = [Touch(number[t.obstacle - 1] + 1, t.label) for t in found.touched]
+    return Path(found.length, found.violations, upper, lower, found.segments, touches, [],
+                legs)
+
+
+def _numbers(scenario: Any, scene: Any) -> dict[int, int | None]:
+    """The robots of ``scene`` (the standing robots of ``scenario`` in order, then frozen
+    copies) as ``scenario``'s robots (indices from 0): a copy is the moving robot whose
+    centre it is at some moment, where a chromosome wraps it there (``wrap_moving =
+    "at-best"``, whose circles stand where the best path known passes), else None."""
+    idx = scenario.still_index
+    out: dict[int, int | None] = {k: int(i) for k, i in enumerate(idx)}
+    if scenario.wrap_moving != "at-best":
+        return out
+    for k in range(idx.size, scene.n):
+        seg = {"type": "arc", "center": list(np.asarray(scene.centres[k], float)),
+               "radius": float(scene.model_radii[k])}
+        mover = moving.moments_wrapped(scenario, [seg])
+        out[k] = next(iter(mover)) if mover else None
+    return out
 
 
 def touched_in(scenario: Any, touched: list[Touch]) -> list[Touch]:
@@ -198,3 +226,4 @@ def touched_in(scenario: Any, touched: list[Touch]) -> list[Touch]:
     idx = scenario.still_index
     return [Touch(int(idx[t.obstacle - 1]) + 1 if t.obstacle <= idx.size
                   else scenario.n + t.obstacle - idx.size, t.label) for t in touched]
+

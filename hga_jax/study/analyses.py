@@ -15,6 +15,10 @@
 - ``per_scene``: per configuration, family and obstacle count, the distribution of
   the scenes' hit rates (worst, 10th percentile), feasible share, and each scene
   paired against the first configuration (:mod:`hga_jax.study.per_scene`).
+- ``moving``: among robots that move, per configuration, family and robot count: runs
+  feasible in time, hits where the optimum is certified, runs no longer than the best
+  known path elsewhere, how often the frozen-snapshot plan collides in time
+  (:mod:`hga_jax.study.moving_study`).
 """
 from __future__ import annotations
 
@@ -272,8 +276,9 @@ def _scaling_markdown(out: list[dict]) -> str:
     return markdown(pd.DataFrame(rows)) + "\n"
 
 
+from .moving_study import moving  # noqa: E402  (its own module: robots that move)
 from .per_scene import per_scene  # noqa: E402  (its own module)
 from .reversing import reversing  # noqa: E402  (its own module: the Reeds-Shepp car's)
 
 ANALYSES: dict[str, Any] = {"paper": paper, "penalty": penalty, "scaling": scaling,
-                            "reversing": reversing, "per_scene": per_scene}
+                            "reversing": reversing, "per_scene": per_scene, "moving": moving}

@@ -7,7 +7,8 @@ A study file holds (paths are relative to the file)::
     runs = 1000                   # runs per cell (one configuration on one scene)
     scenarios = ["../scenarios/robocup_paper.toml"]   # optional scene files
     plugins = ["my_operators.py"] # optional: Python files imported first
-    analyses = ["paper"]          # optional extra reports: paper, penalty, scaling, reversing, per_scene
+    analyses = ["paper"]          # optional extra reports: paper, penalty, scaling, reversing,
+                                  # per_scene, moving
     yardstick = "tight-rope"      # the optimum the gaps are taken to: a car model's name
     [ga]                          # settings shared by every configuration
     [[families]]                  # optional generated scenes (see scenes.py)
@@ -28,6 +29,9 @@ A configuration's ``solver`` (default ``"hga"``) names what searches (:data:`SOL
 - ``"random"``: random search, ``evaluations`` random chromosomes per run, the best
   kept (the GA with that population and 0 generations);
 - ``"exact"``: the exact solver (one run per scene: it is deterministic);
+- ``"frozen"``: among robots that move, the frozen-snapshot planner: the exact optimum of
+  the scene with every robot standing where it is at time 0, judged in time (one run per
+  scene; on a scene where nothing moves, the exact solver);
 - ``"deap"``: the paper's GA written with DEAP (:mod:`hga_jax.peers.deap_ga`); of the
   GA settings it takes population, generations, the four rates and collision;
 - ``"ompl"``: one of OMPL's planners (``planner``, :data:`~hga_jax.peers.ompl_planner.PLANNERS`)
@@ -59,12 +63,13 @@ TOP = {"name", "description", "seed", "runs", "scenarios", "plugins", "analyses"
 FAMILY = {"name", "kind", "obstacles", "scenes", "seed", "density", "car"}
 QUICK = {"runs", "scenes", "obstacles", "ga", "configs", "scenarios"}
 KINDS = ("clutter", "obstructed", "clusters", "scattered", "corridors", "loops", "cluster_loops",
-         "behind", "slot", "wall")
+         "behind", "slot", "wall", "leaving", "crossing", "random_moving", "standing")
 """Scene generators: :mod:`hga_jax.study.scenes`, :mod:`~hga_jax.study.clusters`,
 :mod:`~hga_jax.study.scattered`, :mod:`~hga_jax.study.corridors`, for free
-turns :mod:`~hga_jax.study.loops` and, for the Reeds–Shepp car, the parking-like
-:mod:`~hga_jax.study.parking`."""
-ANALYSES = ("paper", "penalty", "scaling", "reversing", "per_scene")
+turns :mod:`~hga_jax.study.loops`, for the Reeds–Shepp car, the parking-like
+:mod:`~hga_jax.study.parking` and, with robots that move, :mod:`~hga_jax.study.moving_scenes`
+(``obstacles``: the robots in all, standing and moving)."""
+ANALYSES = ("paper", "penalty", "scaling", "reversing", "per_scene", "moving")
 
 
 @dataclass(frozen=True)
@@ -80,7 +85,7 @@ class Family:
     car: str | None = None  # the scenes' [robot] car; None: the generator's (dubins but parking)
 
 
-SOLVERS = ("hga", "random", "exact", "deap", "ompl")
+SOLVERS = ("hga", "random", "exact", "deap", "ompl", "frozen")
 """What a configuration's ``solver`` may name (see the module doc)."""
 PEER_KEYS = {"solver", "preset", "planner", "time_limit", "runs", "batch", "evaluations"}
 """Configuration keys beside the GA settings and ``label``."""
@@ -130,8 +135,8 @@ class Study:
     cpu_devices: int | None = None
 
     def runs_of(self, config: Config) -> int:
-        """Runs per scene of ``config``: its own ``runs``, else the study's (1: exact)."""
-        if config.solver == "exact":
+        """Runs per scene of ``config``: its own ``runs``, else the study's (1: exact, frozen)."""
+        if config.solver in ("exact", "frozen"):
             return 1
         return config.runs if config.runs is not None else self.runs
 
@@ -170,7 +175,8 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
     key = "quick.obstacles" if "obstacles" in quick else f"{where}.obstacles"
     if not isinstance(obs, list) or not obs:
         raise _err(source, key, f"must be a non-empty list of integers, got {obs!r}")
-    least = {"obstructed": 3, "clusters": 3, "scattered": 2, "corridors": 2}.get(t["kind"], 1)
+    least = {"obstructed": 3, "clusters": 3, "scattered": 2, "corridors": 2, "leaving": 2,
+             "crossing": 2, "random_moving": 2, "standing": 2}.get(t["kind"], 1)
     obs = tuple(_int(n, source, key, least, 1001) for n in obs)
     scenes = _int(quick.get("scenes", t.get("scenes", 1)), source, f"{where}.scenes", 1, 10_001)
     density = t.get("density")
@@ -183,7 +189,8 @@ def _family(t: Any, i: int, source: str, quick: Mapping[str, Any]) -> Family:
         raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (each scene draws "
                    f"its own, {low} to {high} obstacles per square metre); remove it")
     if density is not None and t["kind"] in ("corridors", "loops", "cluster_loops", "behind",
-                                             "slot", "wall"):
+                                             "slot", "wall", "leaving", "crossing",
+                                             "random_moving", "standing"):
         raise _err(source, f"{where}.density", f"not used by kind {t['kind']} (its fields "
                    "are fixed or drawn per scene); remove it")
     car = t.get("car")
@@ -233,7 +240,7 @@ def _point(values: dict[str, Any], source: str, where: str, base) -> Config:
         if k in _NEEDS and solver not in _NEEDS[k]:
             raise _err(source, f"{where}.{k}", f"only for solver {' or '.join(_NEEDS[k])} "
                        f"(this configuration's is {solver!r})")
-    if solver in ("exact", "ompl") and values:
+    if solver in ("exact", "ompl", "frozen") and values:
         raise _err(source, f"{where}.{next(iter(values))}", f"solver {solver!r} takes no GA "
                    "settings")
     if solver == "random":

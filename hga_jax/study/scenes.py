@@ -21,6 +21,10 @@ right edge, headings within 60 degrees of +x.
 - ``behind``, ``slot`` and ``wall`` (:mod:`hga_jax.study.parking`): parking-like poses
   of a Reeds–Shepp car, kept where reversing shortens the path (with ``car =
   "dubins"``: where the forward car has a feasible, expressible optimum).
+- ``leaving``, ``crossing``, ``random_moving`` and ``standing``
+  (:mod:`hga_jax.study.moving_scenes`): robots that move (the last the control, the same
+  draws standing); kept where the standing robots' optimum exists and a path feasible
+  in time is known (their optimum may be a path no chromosome expresses).
 
 Every kept scene has a feasible optimum that a chromosome expresses (touching
 each obstacle at most once; with leg genes for the free-turn families), so a GA run
@@ -96,6 +100,10 @@ def generate(kind: str, n: int, seed: int, index: int, name: str,
         from . import parking
 
         return parking.generate(kind, n, seed, index, name, density, car)
+    if kind in ("leaving", "crossing", "random_moving", "standing"):
+        from . import moving_scenes
+
+        return moving_scenes.generate(kind, n, seed, index, name, density, car)
     rng = np.random.default_rng([seed, n, index])
     w, h = field_size(n, density)
     for _ in range(MAX_TRIES):

@@ -1,5 +1,6 @@
 """One cell of a study with any solver: the HGA (batched or one run at a time), random
-search, the exact solver, the DEAP GA or an OMPL planner (:data:`~hga_jax.study.config.SOLVERS`).
+search, the exact solver, the DEAP GA, an OMPL planner or, among robots that move, the
+frozen-snapshot planner (:data:`~hga_jax.study.config.SOLVERS`).
 
 Every solver's cell document has the same columns (:func:`hga_jax.study.store.cell_document`
 for the HGA and random search, :func:`peer_document` for the others), so one store,
@@ -9,7 +10,10 @@ float64 model's: the DEAP GA's best chromosome is decoded again by
 judged by :mod:`hga_jax.peers.judge` under the full collision rule (a path OMPL
 accepted that clips an obstacle is infeasible), the exact solver's optimum is what
 it is. Gaps are to the study's yardstick optimum; a peer may find a path shorter
-than the tight-rope optimum (it turns in free space): its gap is negative.
+than the tight-rope optimum (it turns in free space): its gap is negative. Among robots
+that move, gaps are to the optimum where the exact module certifies one, else to the
+standing robots' optimum (a lower bound), and every cell keeps the columns in time of
+:func:`hga_jax.study.moving_study.columns`.
 
 Times are seconds of one run on one core, compile excluded (:mod:`~hga_jax.study.anytime`).
 """
@@ -24,7 +28,7 @@ from hga_jax.model.exact import solve
 from hga_jax.model.path import decode64, evaluate_path
 from hga_jax.running.results import HIT_GAP, best_run, gap_of
 from hga_jax.running.runner import joined, run_many
-from . import anytime
+from . import anytime, moving_study
 from .config import Config, Study
 from .scenes import Scene
 from .store import TARGETS, cell_document, optimum_details, tight_rope_optimum
@@ -38,6 +42,8 @@ def run_cell(study: Study, config: Config, scene: Scene) -> dict[str, Any]:
     optimum = solve(scene.scenario, turns=study.yardstick)
     if config.solver == "exact":
         return _exact_cell(study, config, scene, optimum)
+    if config.solver == "frozen":
+        return moving_study.frozen_cell(study, config, scene, optimum)
     if config.solver == "deap":
         return _deap_cell(study, config, scene, runs, optimum)
     return _ompl_cell(study, config, scene, runs, optimum)
@@ -56,7 +62,9 @@ def _ga_cell(study: Study, config: Config, scene: Scene, runs: int) -> dict[str,
     full = res.violations
     if config.settings.collision != "full":
         full = decode64(sc, res.perm, res.labels, "full").violations
-    return cell_document(res, config, scene, full, times)
+    doc = cell_document(res, config, scene, full, times)
+    doc["columns"].update(moving_study.columns(sc, res.optimum, res.length, res.feasible))
+    return doc
 
 
 def _gap(length: float, feasible: bool, opt: float | None) -> float:
@@ -73,7 +81,7 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
     each trace point: the first of each within a target is that run's, DEAP's
     evaluations counted as made, only changed individuals evaluated again). An OMPL cell also keeps ``paths``: per
     run the waypoint poses ``[x, y, heading]`` of its final path (None: none found)."""
-    opt = optimum.length if optimum is not None and optimum.feasible else None
+    opt = moving_study.yardstick(optimum)  # among robots that move: maybe a lower bound
     gap = [_gap(r["length"], r["violations"] == 0, opt) for r in rows]
     n = len(rows)
     k = max(1, max(len(r["trace_t"]) for r in rows))
@@ -91,6 +99,8 @@ def peer_document(study: Study, config: Config, scene: Scene, optimum, rows: lis
         "gap": [None if not np.isfinite(g) else float(g) for g in gap],
         "hit": [bool(g < HIT_GAP) for g in gap],
         "generation_best": [r["generation_best"] for r in rows],
+        **moving_study.columns(scene.scenario, optimum, [r["length"] for r in rows],
+                               [r["violations"] == 0 for r in rows]),
     }
     counted = all("trace_gen" in r for r in rows)  # a GA's trace: generations, evaluations
     for t in TARGETS:
@@ -133,10 +143,13 @@ def _best(rows: list[dict], gap: list[float]) -> dict[str, Any]:
 def _exact_cell(study: Study, config: Config, scene: Scene, optimum) -> dict[str, Any]:
     feasible = optimum.feasible
     length = float(optimum.length) if feasible else np.inf
+    # 0 but among robots that move where no optimum is certified: the gap to the bound
+    gap = 0.0 if feasible and optimum.optimal else _gap(length, feasible,
+                                                       moving_study.yardstick(optimum))
     row = {"length": length, "violations": 0 if feasible else 1,
            "violations_full": 0 if feasible else 1, "time_s": optimum.seconds,
            "evaluations": None, "generation_best": None,
-           "trace_t": [optimum.seconds], "trace_gap": [0.0 if feasible else np.inf]}
+           "trace_t": [optimum.seconds], "trace_gap": [gap]}
     return peer_document(study, config, scene, optimum, [row])
 
 

@@ -191,6 +191,9 @@ def setup(study, scenes, docs: list[dict[str, Any]]) -> str:
             what = f"OMPL {c.planner}, {c.time_limit:g} s"
         elif c.solver == "exact":
             what = "the exact solver, once per scene"
+        elif c.solver == "frozen":
+            what = ("the frozen-snapshot planner (the exact optimum with every robot standing "
+                    "where it is at time 0, judged in time), once per scene")
         else:
             evals = sorted({d["evaluations_per_run"] for d in mine if d.get(
                 "evaluations_per_run") is not None})
