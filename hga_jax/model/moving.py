@@ -223,7 +223,8 @@ def violations(d: Any, motion: Any, n: int, subarcs: int = SUBARCS):
         motion.centres[:, 0], motion.centres[:, 1], motion.velocities[:, 0],
         motion.velocities[:, 1], motion.radii))
     # An arc on a moving robot's own circle is judged against that robot apart (own_reach).
-    mover_of = jnp.full((n,), -1, jnp.int32).at[motion.index].set(jnp.arange(m, dtype=jnp.int32))
+    mover_of = jnp.full((n,), -1, jnp.int32).at[motion.index].set(
+        jnp.arange(m, dtype=jnp.int32), mode="drop")  # the padding's index n: dropped
     own = d.obstacle.T  # (S, B)
     own_j = jnp.where(own >= 0, mover_of[jnp.maximum(own, 0)], -1)
     total = jnp.zeros(count.shape, jnp.int32)

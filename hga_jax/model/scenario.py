@@ -169,11 +169,18 @@ class Scenario:
         if not self.has_motion:
             return None
         idx = np.flatnonzero(self.moving)
-        return Motion(centres=np.asarray(self.centres[idx], dtype).reshape(-1, 2),
-                      velocities=np.asarray(self.velocities, dtype).reshape(self.n, 2)[idx],
-                      radii=np.asarray(self.model_radii[idx], dtype),
-                      index=idx.astype(np.int32), speed=np.asarray(self.speed, dtype),
-                      placed=np.asarray(self.placement_times()[idx], dtype),
+        m = idx.size
+        pad = -m % MOTION_BLOCK  # far robots that never come near: fewer programs to compile
+        vel = np.asarray(self.velocities, float).reshape(self.n, 2)[idx]
+        far = np.stack([1e4 + 10.0 * np.arange(pad), np.full(pad, 1e4)], axis=1)
+        return Motion(centres=np.asarray(np.concatenate([self.centres[idx], far]), dtype),
+                      velocities=np.asarray(np.concatenate([vel, np.zeros((pad, 2))]), dtype),
+                      radii=np.asarray(np.concatenate([self.model_radii[idx], np.zeros(pad)]),
+                                       dtype),
+                      index=np.concatenate([idx, np.full(pad, self.n)]).astype(np.int32),
+                      speed=np.asarray(self.speed, dtype),
+                      placed=np.asarray(np.concatenate([self.placement_times()[idx],
+                                                        np.zeros(pad)]), dtype),
                       wrap_penalty=np.asarray(self.wrap_moving == "never", np.int32))
 
     @property
@@ -297,7 +304,8 @@ class Motion(NamedTuple):
     velocities[j]``.
 
     centres: (m, 2) at time 0 (m). velocities: (m, 2) (m/s). radii: (m,) model radii
-    ``R_j`` (m). index: (m,) int32 their obstacle indices in the scenario (from 0).
+    ``R_j`` (m). index: (m,) int32 their obstacle indices in the scenario (from 0); the
+    padding's (:data:`MOTION_BLOCK`) is ``n``, its robots far away, standing, of radius 0.
     speed: () the car's speed along its path (m/s). placed: (m,) the moment whose
     position each robot's circle takes in the tables (s, :meth:`Scenario.placement_times`).
     wrap_penalty: () int32, 1 where a chromosome that wraps a moving robot counts a
@@ -314,6 +322,11 @@ class Motion(NamedTuple):
 
 
 WRAP_MOVING = ("at-best", "at-pass", "never")
+"""How a chromosome may wrap a moving robot (``Scenario.wrap_moving``, module doc)."""
+MOTION_BLOCK = 4
+"""The moving robots of :class:`Motion` are padded to a multiple of this (robots far away
+that never come near, obstacle index ``n``): scenes whose counts differ by less share a
+compiled program."""
 """How a chromosome may wrap a moving robot (``Scenario.wrap_moving``, module doc)."""
 
 
