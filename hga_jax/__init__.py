@@ -1,4 +1,5 @@
-"""hga-jax: shortest Dubins-car paths among circular obstacles with a hierarchical GA.
+"""hga-jax: shortest paths of a car-like robot (forward only, or also backward) among
+circular obstacles, standing or moving, with a hierarchical GA.
 
 Notebook use::
 
@@ -12,7 +13,7 @@ Notebook use::
 
 The model and the result files are defined in docs/model.md.
 """
-__version__ = "0.8.3"
+__version__ = "0.9.0"
 
 import importlib
 from typing import Any
