@@ -119,12 +119,14 @@ def _reached(px, py, t, h, err, motion_arrays, tol, skip=None):
     ``motion_arrays``: ``(ox, oy, vx, vy, R)``, each (m,) + (1,) * len(P)."""
     xp = xp_of(h, err)
     k = len(px) - 1
-    x, y = xp.stack(px), xp.stack(py)  # (k + 1,) + P
-    steps = xp.arange(k).reshape((k,) + (1,) * (x.ndim - 1)).astype(x.dtype)
-    ox, oy, vx, vy, radius = (a[:, None] for a in motion_arrays)  # (m, 1) + (1,) * len(P)
-    d2 = chord_reach(x[:-1], y[:-1], x[1:], y[1:], t + steps * h, h, ox, oy, vx, vy)
+    ox, oy, vx, vy, radius = motion_arrays  # (m,) + (1,) * len(P)
     reach = xp.maximum(radius - tol + err, 0.0)
-    hit = xp.any(d2 < reach * reach, axis=1)
+    reach2 = reach * reach
+    hit = None
+    for i in range(k):  # a running "or": elementwise, no reduction over the sub-arcs
+        d2 = chord_reach(px[i], py[i], px[i + 1], py[i + 1], t + i * h, h, ox, oy, vx, vy)
+        here = d2 < reach2
+        hit = here if hit is None else hit | here
     return hit if skip is None else hit & ~skip
 
 
