@@ -107,6 +107,10 @@ def test_python_snippets_run_as_written(page, tmp_path, monkeypatch, registries)
         assert len(namespace["res"].length) == 200
         assert namespace["records"].best_fitness.shape == (11,)
         assert namespace["best"].perm.shape == (3, 9)
+        bound, timed = namespace["bound"], namespace["timed"]  # robots that move
+        assert not bound.optimal and bound.lower_bound == pytest.approx(3.0)
+        assert timed.yardstick == "lower bound" and timed.best.violations_at == []
+        assert timed.best.length == pytest.approx(bound.length, abs=1e-9)
 
 
 def test_scenario_snippet_loads():
