@@ -298,7 +298,7 @@ def test_no_check_calls_a_colliding_path_feasible(model):
 
 @pytest.mark.slow
 def test_no_false_feasible_among_100000_chromosomes():
-    """The fuzz of experiments/fuzz_moving.py at 100,002 chromosomes (34,001 per car model
+    """The fuzz of experiments/fuzz_moving.py at 100,002 chromosomes (33,334 per car model
     on scenes of 5-9 robots, 1-9 of them moving, every placement of their circles)."""
     tallies = fuzz.fuzz(100_002, seed=1)
     print("\n" + fuzz.report(tallies))

@@ -352,7 +352,7 @@ class ScenarioArrays(NamedTuple):
     turns_free: its turn table's entries (or None: decoded leg by leg); both only from
     :func:`hga_jax.model.free_legs.search_arrays`.
     motion: the :class:`Motion` of the moving robots, or None (nothing moves): then the
-    fitness decodes leg by leg and adds the violations in time (:mod:`hga_jax.model.time`).
+    fitness decodes leg by leg and adds the violations in time (:mod:`hga_jax.model.moving`).
     """
 
     start: Any
