@@ -331,7 +331,6 @@ def segment_hits(scenario: Any, segments: Sequence[dict],
     ox, oy, vx, vy, big_r, idx = _robot_arrays(scenario)
     tol = tolerances(np.float64).length
     parts, owned = [], []  # per segment: (x0, y0, x1, y1, t0, h, err), own arcs apart
-    speed2 = vx * vx + vy * vy
     for ts in timed(segments, float(scenario.speed)):
         if ts.length <= 0.0:
             continue
@@ -344,9 +343,7 @@ def segment_hits(scenario: Any, segments: Sequence[dict],
             # An arc round a moving robot's centre at some moment t* (its circle in the
             # tables, or a frozen copy): judged against that robot by own_reach.
             cx, cy = (float(v) for v in seg["center"])
-            when = ((cx - ox) * vx + (cy - oy) * vy) / np.where(speed2 > 0, speed2, 1.0)
-            own = (np.abs(big_r - seg["radius"]) < 1e-9) & (speed2 > 0) & (
-                np.hypot(ox + vx * when - cx, oy + vy * when - cy) < 1e-9)
+            own, when = _round_robot(seg, ox, oy, vx, vy, big_r)
             for j in np.flatnonzero(own):
                 owned.append((ts.index, j, own_reach(
                     list(xs), list(ys), cx, cy, float(big_r[j]), ts.t0, h, vx[j], vy[j],
@@ -375,18 +372,25 @@ def moments_wrapped(scenario: Any, segments: Sequence[dict]) -> dict[int, float]
     if not scenario.has_motion:
         return {}
     ox, oy, vx, vy, big_r, idx = _robot_arrays(scenario)
-    speed2 = vx * vx + vy * vy
     out: dict[int, float] = {}
     for seg in segments:
-        if seg["type"] != "arc":
-            continue
-        cx, cy = (float(v) for v in seg["center"])
-        when = ((cx - ox) * vx + (cy - oy) * vy) / np.where(speed2 > 0, speed2, 1.0)
-        on = (np.abs(big_r - seg["radius"]) < 1e-9) & (speed2 > 0) & (
-            np.hypot(ox + vx * when - cx, oy + vy * when - cy) < 1e-9)
-        for j in np.flatnonzero(on):
-            out.setdefault(int(idx[j]), float(when[j]))
+        if seg["type"] == "arc":
+            on, when = _round_robot(seg, ox, oy, vx, vy, big_r)
+            for j in np.flatnonzero(on):
+                out.setdefault(int(idx[j]), float(when[j]))
     return out
+
+
+def _round_robot(seg: dict, ox, oy, vx, vy, big_r):
+    """``(on, when)``, (m,) each: which moving robots an arc segment turns round where the
+    robot is at some moment (its radius the robot's model radius, its centre the robot's
+    centre then, to 1e-9 m), and that moment ``t*`` (s)."""
+    cx, cy = (float(v) for v in seg["center"])
+    speed2 = vx * vx + vy * vy
+    when = ((cx - ox) * vx + (cy - oy) * vy) / np.where(speed2 > 0, speed2, 1.0)
+    on = (np.abs(big_r - seg["radius"]) < 1e-9) & (speed2 > 0) & (
+        np.hypot(ox + vx * when - cx, oy + vy * when - cy) < 1e-9)
+    return on, when
 
 
 def sample(segments: Sequence[dict], speed: float, spacing: float = 1e-3):
