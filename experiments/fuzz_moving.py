@@ -27,6 +27,7 @@ float32 roundings of the float64 path's). There must be none.
 Usage (from the repository root)::
 
     python3 experiments/fuzz_moving.py [--chromosomes 100000] [--seed 0] [--rows 2000] [--quiet]
+        [--models tight-rope free reeds-shepp]
 
 prints, per car model: chromosomes checked, how many each check calls feasible, the
 false feasibles (must be 0), the closest approach among the feasible paths and the
@@ -564,9 +565,12 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--rows", type=int, default=2000, help="chromosomes per scene")
     ap.add_argument("--quiet", action="store_true", help="no line per scene on stderr")
+    ap.add_argument("--models", nargs="+", choices=MODELS, default=list(MODELS),
+                    help="the car models fuzzed (default: all three)")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    tallies = fuzz(args.chromosomes, args.seed, args.rows, progress=not args.quiet)
+    tallies = fuzz(args.chromosomes, args.seed, args.rows, models=tuple(args.models),
+                   progress=not args.quiet)
     print(report(tallies))
     print("false feasible: a check calls the path feasible, the dense check shows it closer "
           f"than R - {F32_MARGIN:g} m (float32) or R - {F64_MARGIN:g} m (float64, host) to "

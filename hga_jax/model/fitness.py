@@ -16,6 +16,7 @@ import jax
 import jax.numpy as jnp
 
 from . import reversing as reversing_rule
+from . import time_windows
 from .decode import decode_batch, position_circles
 from .scenario import ScenarioArrays
 
@@ -61,6 +62,7 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
     the gear changes so far.
     """
     c, entries = circles, jnp.asarray(entries)
+    timed = entries.shape[1] > 2  # a table among robots that move (hga_jax.model.time_windows)
     ids, touched = position_circles(perm, labels)
     batch = perm.shape[0]
     dt = entries.dtype
@@ -89,6 +91,8 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
             nxt = nxt + reversing_rule.offset(c) * (goal & (odd ^ back)).astype(nxt.dtype)
             gear = (jnp.where(on, ln, lb), odd)
         row = turn(i, b, nxt if vb is None else vb * c + nxt, on)
+        if timed:  # the windows in time hold the metres driven on arrival
+            viol = viol + jnp.where(on, time_windows.hits(row[:, 2:], length), 0)
         length = length + jnp.where(on, row[:, 0], 0.0)
         viol = viol + jnp.where(on, row[:, 1], 0.0)
         i = jnp.where(on, b if vb is None else vb * c + b, i)
@@ -102,16 +106,17 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
           lab[1:] if reversing else None, last if reversing else None)
     (i, b, _, length, viol, _), _ = jax.lax.scan(body, init, xs)
     row = turn(i, b, jnp.full((batch,), rows, jnp.int32))
+    if timed:
+        viol = viol + time_windows.hits(row[:, 2:], length)
     return length + row[:, 0], (viol + row[:, 1]).astype(jnp.int32)
 
 
 def turn_table(sa: ScenarioArrays, collision: str = "full", genes: bool = False):
     """``(table, reversing)``: the turn table :func:`evaluate` reads for chromosomes with
     leg genes (``genes``) or without, None where it decodes leg by leg; and whether the
-    legs are a reversing car's (their cusps counted). Among robots that move there is
-    none: a turn's violations depend on when the car gets there (:mod:`hga_jax.model.moving`)."""
-    if sa.motion is not None:
-        return None, False
+    legs are a reversing car's (their cusps counted). Among robots that move a table
+    carries each turn's windows in time (:mod:`hga_jax.model.time_windows`); without one
+    the decoder runs the tests in time (:mod:`hga_jax.model.moving`)."""
     if genes:
         return sa.turns_free, sa.free_legs is not None and sa.free_legs.cusps is not None
     return (sa.turns_full if collision == "full" else sa.turns_paper), False

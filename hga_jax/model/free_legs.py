@@ -26,6 +26,7 @@ from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
 from hga_jax.model import legs as leg_info
+from hga_jax.model import time_windows
 from hga_jax.model import turns as turn_tables
 
 from . import free_circles
@@ -128,7 +129,12 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
         s64 = sc.arrays(np.float64)
         built = turn_tables.build(s64.tangents, s64.start, s64.goal, s64.centres,
                                   s64.model_radii, s64.bounds, "full", leg_table(sc))
-        return np.asarray(built.entries, dtype) if built.usable else None
+        if not built.usable:
+            return None
+        if not sc.has_motion:
+            return np.asarray(built.entries, dtype)
+        timed = time_windows.for_scenario(sc, built.entries, dtype, leg_table(sc))
+        return None if timed is None else np.asarray(timed, dtype)
 
     sa = sa._replace(free_legs=leg_table(sc, dtype),
                      turns_free=sc.cached(("turns_free", dtype.name), turns))

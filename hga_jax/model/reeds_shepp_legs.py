@@ -31,7 +31,7 @@ import numpy as np
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 from . import circle_ids as ids
-from . import free_legs, reversing, tangents
+from . import free_legs, reversing, tangents, time_windows
 from . import legs as leg_info
 from . import turns as turn_tables
 from .reeds_shepp_graph import quarter_routes
@@ -199,7 +199,13 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
         s64 = sc.arrays(np.float64)
         built = turn_tables.build(tangent_table(sc), s64.start, s64.goal, s64.centres,
                                   s64.model_radii, s64.bounds, "full", leg_table(sc), back=c)
-        return np.asarray(built.entries, dtype) if built.usable else None
+        if not built.usable:
+            return None
+        if not sc.has_motion:
+            return np.asarray(built.entries, dtype)
+        timed = time_windows.for_scenario(sc, built.entries, dtype, leg_table(sc),
+                                          tangent_table(sc))
+        return None if timed is None else np.asarray(timed, dtype)
 
     sa = sc.arrays(dtype)._replace(tangents=tangent_table(sc, dtype),
                                    free_legs=leg_table(sc, dtype),

@@ -33,7 +33,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from hga_jax.model import legs, tangents
+from hga_jax.model import legs, tangents, time_windows
 from hga_jax.model import turns as turn_tables
 
 
@@ -238,8 +238,8 @@ class Scenario:
 
             sa = sa._replace(legs=self.cached(("legs", name), typed_legs))
 
-        def turn_table():  # none in time: the fitness decodes (hga_jax.model.moving)
-            if not turn_tables.fits(self.n) or self.has_motion:
+        def turn_table():  # among robots that move: what stands (blocking radii)
+            if not turn_tables.fits(self.n):
                 return None
             s64 = self.arrays(np.float64)
             built = turn_tables.build(s64.tangents, s64.start, s64.goal, s64.centres,
@@ -249,6 +249,14 @@ class Scenario:
         table = self.cached(collision, turn_table)
         if table is None:
             return sa
+        looked = table
+        if self.has_motion:  # each turn's windows in time (hga_jax.model.time_windows)
+            def timed():
+                return time_windows.for_scenario(self, table, dtype)
+
+            looked = self.cached((collision, "in time", name), timed)
+            if looked is None:
+                return sa
         if sa.legs is not None:  # with the arcs' own violations, for the guided move
             def arcs():  # once per collision rule
                 tb = self.arrays(np.float64).tangents
@@ -260,7 +268,7 @@ class Scenario:
 
             sa = sa._replace(legs=self.cached(("legs", name, collision), with_arcs))
         field = "turns_full" if collision == "full" else "turns_paper"
-        return sa._replace(**{field: np.asarray(table, sa.centres.dtype)})
+        return sa._replace(**{field: np.asarray(looked, sa.centres.dtype)})
 
     def cached(self, key: Any, build: Any) -> Any:
         """``build()``, made once per ``key`` and kept with the scenario (the tables that
@@ -351,8 +359,10 @@ class ScenarioArrays(NamedTuple):
     free_legs: the :class:`~hga_jax.model.free_legs.LegTable` of free-turn chromosomes,
     turns_free: its turn table's entries (or None: decoded leg by leg); both only from
     :func:`hga_jax.model.free_legs.search_arrays`.
-    motion: the :class:`Motion` of the moving robots, or None (nothing moves): then the
-    fitness decodes leg by leg and adds the violations in time (:mod:`hga_jax.model.moving`).
+    motion: the :class:`Motion` of the moving robots, or None (nothing moves). Among robots
+    that move the tight rope's turn tables carry each turn's windows in time
+    (:mod:`hga_jax.model.time_windows`); without one the fitness decodes leg by leg and
+    adds the violations in time (:mod:`hga_jax.model.moving`).
     """
 
     start: Any
