@@ -411,7 +411,7 @@ def test_help_shows_defaults_and_every_argument_is_explained(capsys):
 
     parser = _parser()
     subs = parser._subparsers._group_actions[0].choices
-    assert set(subs) == {"run", "exact", "check", "plot", "export", "study"}
+    assert set(subs) == {"run", "exact", "check", "plot", "export", "study", "episode"}
     for name, sub in subs.items():
         for action in sub._actions:
             assert action.help, (name, action.dest)

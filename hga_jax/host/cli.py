@@ -48,6 +48,7 @@ from hga_jax.running import devices
 from hga_jax.search import registry
 from hga_jax.model import car_model
 from hga_jax.search.settings import COLLISIONS, PAPER, PRECISIONS, PRESETS, RECOMMENDED, GASettings
+from hga_jax.loop import cli as episode_cli
 from hga_jax.study import cli as study_cli
 
 from hga_jax import validation
@@ -256,6 +257,7 @@ def _parser() -> argparse.ArgumentParser:
     _plugin_arg(xp)
 
     study_cli.add_parser(sub, _Help)  # hga-jax study: see hga_jax/study/cli.py
+    episode_cli.add_parser(sub, _Help)  # hga-jax episode: see hga_jax/loop/cli.py
     return p
 
 
@@ -721,7 +723,7 @@ def _silence_stdout() -> None:
 
 COMMANDS: dict[str, Callable[[Any], int]] = {
     "run": _cmd_run, "exact": _cmd_exact, "check": _cmd_check, "plot": _cmd_plot,
-    "export": _cmd_export, "study": study_cli.run}
+    "export": _cmd_export, "study": study_cli.run, "episode": episode_cli.run}
 
 
 def _use_file_backend() -> None:

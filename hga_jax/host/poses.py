@@ -113,6 +113,21 @@ def sample(segments: Sequence[Mapping[str, Any]], spacing: float,
     return table
 
 
+def at(segments: Sequence[Mapping[str, Any]], s: Any) -> np.ndarray:
+    """Rows ``(x, y, heading, curvature, gear)`` (float64) at arc lengths ``s`` (m, an
+    array) along a path with at least one segment, each clipped to ``[0, length]``."""
+    s = np.atleast_1d(np.asarray(s, np.float64))
+    lengths = np.array([_length(seg) for seg in segments])
+    bounds = np.concatenate([[0.0], np.cumsum(lengths)])
+    s = np.clip(s, 0.0, bounds[-1])
+    piece = np.minimum(np.searchsorted(bounds[1:-1], s, side="right"), len(segments) - 1)
+    out = np.empty((s.size, 5))
+    for i in np.unique(piece):
+        rows = piece == i
+        out[rows] = _poses(segments[i], np.clip(s[rows] - bounds[i], 0.0, lengths[i]))
+    return out
+
+
 def _rows(table: np.ndarray) -> list[list[float]]:
     return np.asarray(table, np.float64).reshape(-1, len(COLUMNS)).tolist()
 

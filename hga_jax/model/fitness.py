@@ -122,9 +122,21 @@ def turn_table(sa: ScenarioArrays, collision: str = "full", genes: bool = False)
     return (sa.turns_full if collision == "full" else sa.turns_paper), False
 
 
+def present_labels(sa: ScenarioArrays, perm, labels):
+    """Positional ``labels`` (B, n + 2) with 0 wherever the position's obstacle is not there
+    (``sa.present``, a frame padded to a bound: :mod:`hga_jax.loop`); unchanged without."""
+    if sa.present is None:
+        return labels
+    n = perm.shape[-1]
+    there = jnp.take(jnp.asarray(sa.present), perm)
+    return jnp.concatenate([labels[:, :1], jnp.where(there, labels[:, 1:n + 1], 0),
+                            labels[:, n + 1:]], axis=1)
+
+
 def evaluate(sa: ScenarioArrays, perm, labels, collision: str = "full", legs=None) -> Evaluation:
     """Evaluate a batch ``perm`` (B, n), ``labels`` (B, n + 2) (and, under free turns,
     positional leg genes ``legs`` (B, n + 2), the full rule only). Pure, jit/vmap-able."""
+    labels = present_labels(sa, perm, labels)
     table, reversing = turn_table(sa, collision, legs is not None)
     if table is None:
         d = decode_batch(sa, perm, labels, collision, legs)

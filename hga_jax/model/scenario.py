@@ -360,9 +360,12 @@ class ScenarioArrays(NamedTuple):
     turns_free: its turn table's entries (or None: decoded leg by leg); both only from
     :func:`hga_jax.model.free_legs.search_arrays`.
     motion: the :class:`Motion` of the moving robots, or None (nothing moves). Among robots
-    that move the tight rope's turn tables carry each turn's windows in time
+    that move the tight rope's and free turns' turn tables carry each turn's windows in time
     (:mod:`hga_jax.model.time_windows`); without one the fitness decodes leg by leg and
     adds the violations in time (:mod:`hga_jax.model.moving`).
+    present: (n,) bool, which obstacles are there, or None (all): the obstacles of a frame
+    padded to a bound (:mod:`hga_jax.loop`); a chromosome never touches one that is not
+    (its label reads as 0).
     """
 
     start: Any
@@ -380,6 +383,7 @@ class ScenarioArrays(NamedTuple):
     free_legs: Any = None
     turns_free: Any = None
     motion: Any = None
+    present: Any = None
 
 
 def scenario_to_dict(s: Scenario) -> dict[str, Any]:
