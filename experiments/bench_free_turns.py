@@ -2,7 +2,7 @@
 
 Free-turn chromosomes carry a third module (one leg gene per position) and their
 fitness looks turns up in a table nine times the tight rope's
-(:mod:`hga_jax.model.free_legs`). This times both models with the same settings on
+(:mod:`hga_jax.model.cars.free_turns.legs`). This times both models with the same settings on
 the same scenes: ``robocup_paper.toml`` (n = 9) and clutter scenes of the studies'
 generator (seed 3, scene 0) with 25 and 40 obstacles, for the paper's and the
 recommended preset; the median search time over repeats after a warm-up run (the

@@ -4,7 +4,7 @@ The scene: ``robocup_paper.toml`` (nine robots) with five of them moving at 0.3-
 (:data:`VELOCITIES`; the car at 1 m/s), against the same scene with every velocity 0
 (the static scene, bit for bit). Both fitnesses look turns up in a turn table; the
 moving scene's table carries each turn's windows in time as more columns
-(:mod:`hga_jax.model.time_windows`). For the paper's and the recommended preset, both
+(:mod:`hga_jax.model.in_time.windows`). For the paper's and the recommended preset, both
 scenes are searched in one process, alternately (moving, standing, moving, ...), after a
 run of each that compiles, and the median of ``--repeats`` search times gives
 evaluations/s (``res.evaluations / res.search_s``); the first (compiling) call's
@@ -21,7 +21,7 @@ itself with every velocity 0; one line per scene and the worst ratio.
 ``--profile`` also times the fitness alone (jitted, on one batch of random tight-rope
 chromosomes, best of 7): the standing scene's turn-table look-ups, the moving scene's
 (with the windows), the decoder alone on either scene, the decoder with the tests in time
-(what chromosomes with leg genes run), and :func:`hga_jax.model.moving.violations` alone
+(what chromosomes with leg genes run), and :func:`hga_jax.model.in_time.clearance.violations` alone
 at 8 (the search's), 4, 2 and 1 sub-arcs.
 
 Usage (from the repository root)::
@@ -109,9 +109,9 @@ def profile(moving, standing, batch: int) -> None:
     import jax.numpy as jnp
     import numpy as np
 
-    from hga_jax.model import moving as mv
     from hga_jax.model.decode import decode_batch
     from hga_jax.model.fitness import evaluate
+    from hga_jax.model.in_time import clearance as mv
 
     rng = np.random.default_rng(0)
     n = moving.n

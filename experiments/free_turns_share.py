@@ -3,7 +3,7 @@
 For each scene the exact tight-rope optimum and the exact free-turn optimum
 (``solve(scene, turns="free")``) are compared, and so is the best path of a chromosome
 with one gene per leg (straight, or a free circle of radius rho touching both
-neighbouring circles: :func:`hga_jax.model.leg_space.shortest`, exact). "Expressed"
+neighbouring circles: :func:`hga_jax.model.cars.free_turns.leg_space.shortest`, exact). "Expressed"
 counts the scenes where that chromosome space reaches the free-turn optimum.
 
 Scenes: the studies' generators (random, obstructed, clusters) at 9, 15 and 25
@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from hga_jax import ConfigError, scenario_from_dict
-from hga_jax.model import leg_space
+from hga_jax.model.cars.free_turns import leg_space
 from hga_jax.model.exact import solve
 from hga_jax.study import loops
 from hga_jax.study.scenes import generate

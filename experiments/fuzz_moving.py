@@ -11,7 +11,7 @@ judged by
   float32 search arrays, jitted): feasible when it counts no violation;
 - ``float64``: the float64 decoder (:func:`hga_jax.model.path.decode64`);
 - ``host``: the float64 path check of the result files (every violation of
-  :func:`hga_jax.model.path.evaluate_path` and :func:`hga_jax.model.moving.segment_hits`
+  :func:`hga_jax.model.path.evaluate_path` and :func:`hga_jax.model.in_time.clearance.segment_hits`
   over its segments: feasible when neither finds one);
 
 and every path that one of them calls feasible is measured by the independent dense
@@ -204,7 +204,7 @@ def clearance(scenario: Any, segments: list[dict], spacing: float = SPACING,
     so are those whose bound is below a clearance ``-margin`` of ``decide`` that the best
     sample is not below, so that the bracket decides each of them exactly (but for an
     interval that cannot be cut further, never seen). Independent of
-    :mod:`hga_jax.model.moving`."""
+    :mod:`hga_jax.model.in_time.clearance`."""
     idx = np.flatnonzero(scenario.moving)
     vel = np.asarray(scenario.velocities, float).reshape(scenario.n, 2)[idx]
     cen = np.asarray(scenario.centres, float)[idx]
@@ -327,11 +327,11 @@ def _programs(exact_select: bool = True):
     time alone (:func:`judge` tells the rows clear of the standing robots by them)."""
     import jax
 
-    from hga_jax.model import moving
     from hga_jax.model.fitness import evaluate
+    from hga_jax.model.in_time import clearance as mv
 
     return (jax.jit(evaluate, static_argnames="collision"),
-            jax.jit(moving.violations, static_argnums=(2, 3)) if exact_select else None)
+            jax.jit(mv.violations, static_argnums=(2, 3)) if exact_select else None)
 
 
 NEAR = 2
@@ -347,7 +347,8 @@ def judge(sc, model: str, perm, labels, legs, programs=None, tally: Tally | None
     that keep clear of the standing robots and the field (row: path)."""
     import jax
 
-    from hga_jax.model import car_model, moving
+    from hga_jax.model import car_model
+    from hga_jax.model.in_time import clearance as mv
     from hga_jax.model.path import decode64, evaluate_path
 
     evaluate, in_time = programs or _programs()
@@ -370,7 +371,7 @@ def judge(sc, model: str, perm, labels, legs, programs=None, tally: Tally | None
         with jax.enable_x64(True):
             motion = sc.motion(np.float64)
             mv64 = np.concatenate([np.asarray(in_time(
-                jax.tree.map(lambda a: a[i:i + BLOCK], d64), motion, sc.n, moving.SUBARCS_64))
+                jax.tree.map(lambda a: a[i:i + BLOCK], d64), motion, sc.n, mv.SUBARCS_64))
                 for i in range(0, perm.shape[0], BLOCK)])
     perm, labels = perm[:rows_in], labels[:rows_in]
     legs = None if legs is None else legs[:rows_in]
@@ -384,7 +385,7 @@ def judge(sc, model: str, perm, labels, legs, programs=None, tally: Tally | None
     for i in rows:
         p = evaluate_path(sc, perm[i], labels[i], "full", None if legs is None else legs[i])
         still = [w for w in p.violations_at if w["kind"] != "moving obstacle"]
-        hits = moving.segment_hits(sc, p.segments)
+        hits = mv.segment_hits(sc, p.segments)
         verdict = {"float32": v32[i] == 0, "float64": v64[i] == 0,
                    "host": not still and not hits}
         assert p.violations == v64[i]  # one decoder, alone or in a batch
@@ -394,7 +395,7 @@ def judge(sc, model: str, perm, labels, legs, programs=None, tally: Tally | None
         if not still:
             clean[int(i)] = p
         lower, upper = clearance(sc, p.segments, decide=tuple(MARGINS.values()))
-        sampled = min((a.clearance for a in moving.closest_approach(sc, p.segments, SPACING,
+        sampled = min((a.clearance for a in mv.closest_approach(sc, p.segments, SPACING,
                                                                      start=sc.start[:2])),
                       default=math.inf)
         tally.sampled_below += int(sampled < float(lower.min()) - 1e-12)
@@ -436,7 +437,7 @@ def graze(rng: np.random.Generator, d: dict, perm, labels, path) -> dict | None:
     word). None where there is no such robot or segment."""
     import copy
 
-    from hga_jax.model import moving as mv
+    from hga_jax.model.in_time import clearance as mv
 
     n = len(d["obstacles"])
     touched = set(int(perm[q - 1]) for q in range(1, n + 1) if labels[q] != 0)

@@ -13,7 +13,7 @@ Notebook use::
 
 The model and the result files are defined in docs/model.md.
 """
-__version__ = "0.9.1"
+__version__ = "0.10.0"
 
 import importlib
 from typing import Any

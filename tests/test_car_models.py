@@ -16,7 +16,8 @@ import pytest
 from hga_jax import validation
 from hga_jax.host.cli import main
 from hga_jax.host.config import load_scenario
-from hga_jax.model import car_model, leg_space
+from hga_jax.model import car_model
+from hga_jax.model.cars.free_turns import leg_space
 from hga_jax.model.exact import solve
 from hga_jax.model.no_path import exists
 from hga_jax.running.results import json_safe

@@ -16,7 +16,9 @@ from test_free_turns import _loop_scene, check_path, pose_scene
 
 from hga_jax import scenario_from_dict
 from hga_jax.errors import ConfigError
-from hga_jax.model import circle_ids, free_legs, leg_space
+from hga_jax.model import circle_ids
+from hga_jax.model.cars.free_turns import leg_space
+from hga_jax.model.cars.free_turns import legs as free_legs
 from hga_jax.model.decode import decode_batch as _decode_batch
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import evaluate, looked_up

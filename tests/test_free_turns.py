@@ -17,7 +17,7 @@ import pytest
 
 from hga_jax import scenario_from_dict
 from hga_jax.errors import ModelMismatchError
-from hga_jax.model import free_circles, free_turns
+from hga_jax.model.cars.free_turns import circles, turns
 from hga_jax.model.exact import solve
 
 TWO_PI = 2.0 * math.pi
@@ -161,7 +161,7 @@ def test_pure_dubins_matches_the_closed_form_on_3000_pairs():
     for q0, q1 in _pairs(3000, 1):
         sc = scenario_from_dict(pose_scene(q0, q1), "pair")
         ref, word = dubins(sc.start, sc.goal, RHO)  # the poses as loaded (degrees round trip)
-        length, segs, _, free = free_turns.shortest(sc)
+        length, segs, _, free = turns.shortest(sc)
         assert abs(length - ref) <= 1e-9 * RHO, (q0, q1, word, length, ref)
         assert (free > 0) == (word in ("RLR", "LRL")) or abs(length - ref) < 1e-12
         if checked < 300:
@@ -234,7 +234,7 @@ def test_tight_rope_model_is_the_default_and_unchanged():
 
 def test_free_circles_are_pinned_by_two_contacts():
     sc = _loop_scene()
-    fx, fy, fs = free_circles.free_circles(sc)
+    fx, fy, fs = circles.free_circles(sc)
     x, y, r, _, _ = sc.circles(np.float64)
     anchors = np.concatenate([np.stack([x[:4], y[:4], r[:4]], 1),
                               np.stack([x[4::2], y[4::2], r[4::2]], 1)])
@@ -248,7 +248,7 @@ def test_free_circles_are_pinned_by_two_contacts():
 
 def test_a_longer_free_optimum_is_a_bug_not_an_answer(monkeypatch):
     sc = _loop_scene()
-    monkeypatch.setattr(free_turns, "shortest", lambda s, bound=None: (99.0, [], [], 0))
+    monkeypatch.setattr(turns, "shortest", lambda s, bound=None: (99.0, [], [], 0))
     with pytest.raises(ModelMismatchError):
         solve(sc, turns="free")
 
@@ -369,7 +369,7 @@ def test_a_free_loop_held_by_a_wall(q0, q1, tight_feasible):
 def test_free_legs_express_every_dubins_word():
     """A chromosome with one gene per leg (straight, or a free circle touching both
     neighbours) reaches the Dubins distance between any two poses."""
-    from hga_jax.model import leg_space
+    from hga_jax.model.cars.free_turns import leg_space
 
     for q0, q1 in _pairs(400, 5):
         sc = scenario_from_dict(pose_scene(q0, q1), "pair")
@@ -380,7 +380,8 @@ def test_free_legs_express_every_dubins_word():
 
 @pytest.mark.parametrize("family", ["grid", "random"])
 def test_free_legs_lie_between_the_two_optima(family):
-    from hga_jax.model import free_legs, leg_space
+    from hga_jax.model.cars.free_turns import leg_space
+    from hga_jax.model.cars.free_turns import legs as free_legs
 
     for i, d in enumerate(_families.scenes(family, 31, 6)):
         sc = scenario_from_dict(d, f"{family}{i}")

@@ -1,4 +1,4 @@
-"""Robots that move (hga_jax/model/moving.py): the tests in time against cases computed by
+"""Robots that move (hga_jax/model/in_time/clearance.py): the tests in time against cases computed by
 hand, and their soundness: no check calls feasible a path that comes too close to a
 moving robot at the moment the car is there.
 
@@ -34,8 +34,9 @@ import numpy as np
 import pytest
 
 from hga_jax import scenario_from_dict
-from hga_jax.model import car_model, moving
+from hga_jax.model import car_model
 from hga_jax.model.fitness import evaluate as _evaluate
+from hga_jax.model.in_time import clearance
 from hga_jax.model.path import decode64
 
 evaluate = jax.jit(_evaluate, static_argnames="collision")
@@ -88,14 +89,14 @@ LINE = [{"type": "line", "start": [0.0, 0.0], "end": [3.0, 0.0]}]
     ((1.0, 0.5), (0.5, 0.0), 0.0, 1.5, 0.25),
 ])
 def test_chord_reach_by_hand(o, v, t0, h, d2):
-    got = moving.chord_reach(0.0, 0.0, 3.0, 0.0, t0, h, o[0], o[1], v[0], v[1])
+    got = clearance.chord_reach(0.0, 0.0, 3.0, 0.0, t0, h, o[0], o[1], v[0], v[1])
     assert got == pytest.approx(d2, abs=1e-12)
 
 
 def test_chord_reach_broadcasts_over_robots_and_chords():
     ox = np.array([1.5, 1.5])[:, None]
     oy = np.array([-1.5, -3.0])[:, None]
-    got = moving.chord_reach(np.array([0.0, 0.0]), 0.0, np.array([3.0, 1.5]), 0.0,
+    got = clearance.chord_reach(np.array([0.0, 0.0]), 0.0, np.array([3.0, 1.5]), 0.0,
                              np.array([0.0, 0.0]), np.array([3.0, 1.5]), ox, oy, 0.0, 1.0)
     # the second chord stops at (1.5, 0) at t = 1.5: against the late robot (1.5, -1.5) then
     np.testing.assert_allclose(got, [[0.0, 0.0], [1.125, 2.25]], atol=1e-12)
@@ -110,21 +111,21 @@ def _moving(x, y, vx, vy):
 
 def test_a_robot_crossing_the_straight_path_hits_it_at_the_known_time():
     sc = _scene([_moving(1.5, -1.5, 0.0, 1.0)])
-    assert moving.segment_hits(sc, LINE) == [(0, 0)]
-    (a,) = moving.closest_approach(sc, LINE, spacing=1e-3)
+    assert clearance.segment_hits(sc, LINE) == [(0, 0)]
+    (a,) = clearance.closest_approach(sc, LINE, spacing=1e-3)
     assert a.time == pytest.approx(1.5, abs=1e-9) and a.distance == pytest.approx(0.0, abs=1e-9)
     assert a.clearance == pytest.approx(-R, abs=1e-9)
     # the same path in two pieces: the second entered at t = 1
     two = [{"type": "line", "start": [0.0, 0.0], "end": [1.0, 0.0]},
            {"type": "line", "start": [1.0, 0.0], "end": [3.0, 0.0]}]
-    assert moving.segment_hits(sc, two) == [(1, 0)]
-    assert moving.at(sc, (1.5, 0.0), 1.5) == [(0, -R)]
+    assert clearance.segment_hits(sc, two) == [(1, 0)]
+    assert clearance.at(sc, (1.5, 0.0), 1.5) == [(0, -R)]
 
 
 def test_a_robot_crossing_late_misses_by_the_known_distance():
     sc = _scene([_moving(1.5, -3.0, 0.0, 1.0)])
-    assert moving.segment_hits(sc, LINE) == []
-    (a,) = moving.closest_approach(sc, LINE, spacing=1e-3)
+    assert clearance.segment_hits(sc, LINE) == []
+    (a,) = clearance.closest_approach(sc, LINE, spacing=1e-3)
     assert a.time == pytest.approx(2.25, abs=1e-9)
     assert a.distance == pytest.approx(math.sqrt(1.125), abs=1e-9)
 
@@ -135,7 +136,7 @@ def test_a_robot_overtaken_at_a_known_least_distance(delta, hit):
     """The robot at (1 + 0.5 t, R + delta): the car at (t, 0) draws level at t = 2, the
     least distance ``R + delta``; a hit iff closer than ``R - 1e-7`` (float64 tolerance)."""
     sc = _scene([_moving(1.0, R + delta, 0.5, 0.0)])
-    assert (moving.segment_hits(sc, LINE) == [(0, 0)]) is hit
+    assert (clearance.segment_hits(sc, LINE) == [(0, 0)]) is hit
     lower, upper = fuzz.clearance(sc, LINE)
     assert lower[0] == pytest.approx(delta, abs=2e-7)
     assert upper[0] == pytest.approx(delta, abs=1e-12)
@@ -146,9 +147,9 @@ def test_the_cars_speed_times_the_meeting():
     speed 2 the car, at (2 t, 0), draws level at t = 1, 0.1 m away (a hit)."""
     slow = _scene([_moving(1.0, 0.1, 1.0, 0.0)], speed=1.0)
     fast = _scene([_moving(1.0, 0.1, 1.0, 0.0)], speed=2.0)
-    assert moving.segment_hits(slow, LINE) == []
-    assert moving.segment_hits(fast, LINE) == [(0, 0)]
-    (a,) = moving.closest_approach(fast, LINE, spacing=1e-3)
+    assert clearance.segment_hits(slow, LINE) == []
+    assert clearance.segment_hits(fast, LINE) == [(0, 0)]
+    (a,) = clearance.closest_approach(fast, LINE, spacing=1e-3)
     assert a.time == pytest.approx(1.0, abs=1e-9) and a.clearance == pytest.approx(0.1 - R)
 
 
@@ -178,11 +179,11 @@ def test_an_arc_against_a_robot_alongside(clockwise, delta, hit):
     whose error is at most ``r (2 pi / 1024)^2 / 8 = 4.7e-6`` m here, so ``R - 1e-6`` is a
     hit and ``R + 1e-4`` none (between, it may call a hit: conservative)."""
     sc, segs = _alongside(R + delta, 1.5, clockwise)
-    assert (moving.segment_hits(sc, segs) == [(0, 0)]) is hit
+    assert (clearance.segment_hits(sc, segs) == [(0, 0)]) is hit
     lower, upper = fuzz.clearance(sc, segs)
     assert upper[0] == pytest.approx(delta, abs=1e-12)
     assert lower[0] == pytest.approx(delta, abs=2e-7)
-    (a,) = moving.closest_approach(sc, segs, spacing=1e-4)
+    (a,) = clearance.closest_approach(sc, segs, spacing=1e-4)
     assert a.time == pytest.approx((math.pi / 4) / 1.5, abs=1e-4)
     assert delta - 1e-9 <= a.clearance <= delta + 1e-6  # samples miss the least by < 1e-6
 
@@ -211,7 +212,7 @@ def test_an_arc_against_robots_on_its_inner_side_by_dense_sampling():
         sc = _scene([_moving(*o, *vel)], speed, start=AWAY, goal=(5.0, 5.0, 0.0))
         lower, upper = fuzz.clearance(sc, segs, decide=(1e-7,))
         assert upper[0] <= d - R + 1e-12  # it passes d away at th (or closer elsewhere)
-        hit = moving.segment_hits(sc, segs) == [(0, 0)]
+        hit = clearance.segment_hits(sc, segs) == [(0, 0)]
         if upper[0] < -1e-7:
             assert hit
         elif lower[0] > 5e-6:
@@ -245,10 +246,10 @@ def test_an_arc_round_a_moving_robot_where_it_is_then(clockwise):
     circle stands in the tables) is judged against that robot by its own bound: touching
     and drawing away is clear (a chord test would call the touch a hit), cutting in a hit."""
     sc, segs = _round_the_robot(clockwise)
-    hits = moving.segment_hits(sc, segs)
+    hits = clearance.segment_hits(sc, segs)
     lower, upper = fuzz.clearance(sc, segs, decide=(1e-7,))
     if clockwise:
-        assert hits == [] and moving.moments_wrapped(sc, segs) == {0: pytest.approx(1.0)}
+        assert hits == [] and clearance.moments_wrapped(sc, segs) == {0: pytest.approx(1.0)}
         assert lower[0] >= -2e-7 and upper[0] <= 1e-9  # the touch at t = 1 (bracket 1e-7)
     else:
         assert (1, 0) in hits

@@ -12,8 +12,8 @@ from hga_jax.host.cli import main
 from hga_jax.host.config import load_scenario, scenario_from_dict
 from hga_jax.host.plots import plot_path, save_figure
 from hga_jax.host.plots.moving_robots import mark_step, mark_times
-from hga_jax.model import moving
 from hga_jax.model.exact import solve
+from hga_jax.model.in_time import clearance
 from hga_jax.model.scenario import Scenario
 
 R = 0.2  # every model circle below: max(rho 0.2, 0.09 + 0.09)
@@ -68,7 +68,7 @@ def test_robot_is_drawn_where_the_car_passes_closest():
     (disc,) = _by_gid(ax, "moving_robot")
     assert disc.center == pytest.approx((1.5, -1.0 + 0.8 * t), abs=1e-3)
     assert disc.radius == pytest.approx(0.09)
-    (a,) = moving.closest_approach(sc, LINE)
+    (a,) = clearance.closest_approach(sc, LINE)
     assert a.obstacle == 1 and disc.center == pytest.approx(a.centre, abs=1e-12)
     gap = math.hypot(t - 1.5, 0.8 * t - 1.0) - R  # < 0: it meets the car
     assert a.clearance == pytest.approx(gap, abs=1e-5) and gap < 0  # sampled every mm
@@ -96,7 +96,7 @@ def test_robot_is_drawn_where_the_car_passes_closest():
 def test_a_robot_that_keeps_clear_is_not_marked():
     sc = _scene(x=2.8, y=-3.0)  # passes x = 2.8 long after the car
     ax = plot_path(sc, LINE).axes[0]
-    (a,) = moving.closest_approach(sc, LINE)
+    (a,) = clearance.closest_approach(sc, LINE)
     assert a.clearance > 0
     (disc,) = _by_gid(ax, "moving_robot")
     assert disc.center == pytest.approx(a.centre)
@@ -133,13 +133,13 @@ def test_time_marks_on_arcs_match_the_drive():
     vel = np.zeros((sc.n, 2))
     vel[0] = (0.3, -0.2)
     sc = dataclasses.replace(sc, velocities=vel, speed=0.7)
-    end = moving.timed(segs, sc.speed)[-1].t1
+    end = clearance.timed(segs, sc.speed)[-1].t1
     ax = plot_path(sc, segs).axes[0]
     ticks = _by_gid(ax, "time_mark")
     times = mark_times(end)
     assert 4 <= len(ticks) == len(times) <= 10
     assert times[-1] < end <= times[-1] + mark_step(end) + 1e-9
-    x, y, t = moving.sample(segs, sc.speed, 1e-4)
+    x, y, t = clearance.sample(segs, sc.speed, 1e-4)
     for tick, tm in zip(ticks, times):
         mid = np.c_[tick.get_data()].mean(axis=0)
         i = int(np.argmin(abs(t - tm)))
@@ -199,7 +199,7 @@ def test_exact_path_among_moving_robots_is_drawn():
     assert opt.feasible and not opt.optimal and opt.length > 3.0
     assert any(t.obstacle > sc.n for t in opt.touched)
     ax = plot_path(sc, opt.segments, touched=opt.touched).axes[0]
-    (a,) = moving.closest_approach(sc, opt.segments)
+    (a,) = clearance.closest_approach(sc, opt.segments)
     assert a.clearance >= -1e-6 and not _by_gid(ax, "moving_collision")
     assert _by_gid(ax, "moving_robot")[0].center == pytest.approx(a.centre)
     static = Scenario("still", 0.09, 0.2, sc.start, sc.goal, sc.centres, sc.radii, None)

@@ -8,8 +8,8 @@ import pytest
 
 from hga_jax.errors import ConfigError
 from hga_jax.host.config import scenario_from_dict
-from hga_jax.model import moving
 from hga_jax.model.exact import solve
+from hga_jax.model.in_time import clearance
 from hga_jax.study import load_study, moving_scenes
 from hga_jax.study.moving_study import frozen_plan, rows
 from hga_jax.study.run import run_study
@@ -59,7 +59,7 @@ def test_standing_is_the_random_moving_draw_with_every_robot_standing():
 def test_leaving_robots_start_on_or_near_the_still_path():
     _, sc = _scene("leaving")
     still = solve(sc.still_scene())
-    x, y, _ = moving.sample(still.segments, sc.speed, 0.005)
+    x, y, _ = clearance.sample(still.segments, sc.speed, 0.005)
     for c in sc.centres[sc.moving]:
         assert np.min(np.hypot(x - c[0], y - c[1])) <= moving_scenes.NEAR + 0.01
 
@@ -68,11 +68,11 @@ def test_crossing_scenes_collide_in_time_on_the_still_optimum_and_know_a_way_rou
     d, sc = _scene("crossing")
     assert moving_scenes.generate("crossing", 5, SEED, 0, "crossing_0") == d
     still = solve(sc.still_scene())
-    assert still.feasible and moving.segment_hits(sc, still.segments)
+    assert still.feasible and clearance.segment_hits(sc, still.segments)
     found = solve(sc)
     assert found.feasible and not found.optimal
     assert found.lower_bound == pytest.approx(still.length)
-    assert found.length >= still.length and not moving.segment_hits(sc, found.segments)
+    assert found.length >= still.length and not clearance.segment_hits(sc, found.segments)
     speeds = np.hypot(*np.asarray(sc.velocities)[sc.moving].T)
     assert np.all((speeds >= 0.3 - 1e-3) & (speeds <= 1.5 + 1e-3))
 
@@ -85,7 +85,7 @@ def test_the_frozen_plan_is_the_snapshot_optimum_judged_in_time():
         "snap"))
     assert plan.feasible == snapshot.feasible
     assert plan.length == pytest.approx(snapshot.length)
-    assert hits == moving.segment_hits(sc, plan.segments)
+    assert hits == clearance.segment_hits(sc, plan.segments)
     assert hits  # the crossing robots start off the path: the snapshot drives into them
 
 

@@ -1,4 +1,4 @@
-"""Reeds-Shepp shortest paths (hga_jax.model.reeds_shepp) against OMPL, against their
+"""Reeds-Shepp shortest paths (hga_jax.model.cars.reeds_shepp.closed_form) against OMPL, against their
 own closed-form kinematics and against hand-computed values."""
 import collections
 import math
@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from hga_jax.model import reeds_shepp as rs
 from hga_jax.model import dubins
+from hga_jax.model.cars.reeds_shepp import closed_form as rs
 
 RHOS = (0.15, 0.25, 1.0)
 TWO_PI = 2.0 * math.pi

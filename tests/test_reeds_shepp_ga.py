@@ -1,6 +1,6 @@
 """The GA's Reeds–Shepp chromosomes: what they decode to, and that the search finds them.
 
-A Reeds–Shepp chromosome (hga_jax/model/reversing.py, reeds_shepp_legs.py) is a
+A Reeds–Shepp chromosome (hga_jax/model/cars/reeds_shepp/reversing.py, legs.py) is a
 free-turn one with seven-valued leg genes and the start's gear in the goal's gene.
 Checked here: the turn table gives the decoder's values; every feasible chromosome
 decodes to a path that passes the independent check (tests/_rs_check.py) and is never
@@ -21,7 +21,8 @@ import pytest
 
 import _rs_check
 from hga_jax import scenario_from_dict
-from hga_jax.model import car_model, reversing
+from hga_jax.model import car_model
+from hga_jax.model.cars.reeds_shepp import reversing
 from hga_jax.model.decode import decode_batch as _decode_batch
 from hga_jax.model.exact import solve
 from hga_jax.model.fitness import evaluate as _evaluate

@@ -19,7 +19,7 @@ import _rs_check
 from hga_jax import scenario_from_dict
 from hga_jax.errors import ConfigError
 from hga_jax.host.cli import main
-from hga_jax.model import reeds_shepp
+from hga_jax.model.cars.reeds_shepp import closed_form
 from hga_jax.model.exact import solve
 from hga_jax.search.settings import GASettings
 from hga_jax.study import scenes
@@ -56,7 +56,7 @@ def test_with_no_obstacles_the_optimum_is_the_closed_form():
         d = _scene(rng, rho=float(rng.choice([0.15, 0.25, 0.4])))
         sc = scenario_from_dict(d, "rs")
         opt = solve(sc, car="reeds-shepp")
-        closed = reeds_shepp.length(sc.start, sc.goal, sc.min_turn_radius)
+        closed = closed_form.length(sc.start, sc.goal, sc.min_turn_radius)
         assert opt.feasible and opt.turns == "reeds-shepp"
         assert opt.length == pytest.approx(closed, rel=1e-9, abs=1e-12)
         assert _rs_check.problems(d, opt.segments, opt.length) == []
@@ -76,7 +76,7 @@ def test_among_obstacles_never_longer_than_free_turns_and_every_path_checks(k):
     sc = scenario_from_dict(d, "rs")
     rs, free = solve(sc, car="reeds-shepp"), solve(sc, turns="free")
     assert rs.feasible == free.feasible or (rs.feasible and not free.feasible)
-    closed = reeds_shepp.length(sc.start, sc.goal, sc.min_turn_radius)
+    closed = closed_form.length(sc.start, sc.goal, sc.min_turn_radius)
     assert closed - 1e-9 <= rs.length <= free.length + 1e-9
     assert _rs_check.problems(d, rs.segments, rs.length) == []
     flips = sum(bool(a.get("reverse")) != bool(b.get("reverse"))
@@ -197,7 +197,7 @@ def test_the_peer_judge_understands_cusps():
     assert judge_segments(sc, wrong).gaps > 0
     # Waypoints joined by Reeds-Shepp paths: start and goal alone give the closed form.
     joined = judge_poses(sc, [sc.start, sc.goal], car="reeds-shepp")
-    assert joined.length == pytest.approx(reeds_shepp.length(sc.start, sc.goal, RHO), abs=1e-12)
+    assert joined.length == pytest.approx(closed_form.length(sc.start, sc.goal, RHO), abs=1e-12)
     assert joined.gaps == 0
 
 
@@ -274,7 +274,7 @@ def test_quarter_turns_hold_the_backing_manoeuvre_ompl_found():
     onto a free circle, a quarter turn and a tangent into the slot. With them the
     optimum is shorter than OMPL's path, and every quarter-turn circle touches a pose
     circle from outside."""
-    from hga_jax.model import reeds_shepp_graph as rg
+    from hga_jax.model.cars.reeds_shepp import graph as rg
     from hga_jax.study import parking
 
     d = parking.generate("slot", 9, 77, 11, "slot_n009_011")

@@ -1,4 +1,4 @@
-"""The windows in time of the turn table among robots that move (hga_jax/model/time_windows.py):
+"""The windows in time of the turn table among robots that move (hga_jax/model/in_time/windows.py):
 each window by hand and against the tests it stands for, and the table's look-ups against
 the decoder's tests in time, chromosome by chromosome."""
 from __future__ import annotations
@@ -12,9 +12,11 @@ import jax
 import numpy as np
 import pytest
 
-from hga_jax.model import car_model, moving, time_windows as tw
+from hga_jax.model import car_model
 from hga_jax.model.decode import decode_batch
 from hga_jax.model.fitness import evaluate
+from hga_jax.model.in_time import clearance
+from hga_jax.model.in_time import windows as tw
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -48,7 +50,7 @@ def test_a_robot_that_never_comes_near_has_no_window():
 
 def test_line_windows_agree_with_the_clamped_quadratic():
     """Random chords and robots: a start time inside the window comes closer than the reach
-    (moving.chord_reach), one outside does not, away from the window's ends."""
+    (clearance.chord_reach), one outside does not, away from the window's ends."""
     rng = np.random.default_rng(3)
     k = 4000
     x0, y0, x1, y1 = rng.uniform(-1, 1, (4, k))
@@ -60,7 +62,7 @@ def test_line_windows_agree_with_the_clamped_quadratic():
     reach = rng.uniform(0.05, 0.5, k)
     lo, hi = tw.line_window(x0, y0, x1, y1, h, ox, oy, vx, vy, reach)
     times = np.linspace(-6.0, 6.0, 601)[:, None]
-    d2 = moving.chord_reach(x0, y0, x1, y1, times, h, ox, oy, vx, vy)
+    d2 = clearance.chord_reach(x0, y0, x1, y1, times, h, ox, oy, vx, vy)
     close = d2 < reach * reach
     inside = (lo < times) & (times < hi)
     clear = (np.abs(times - lo) > 1e-9) & (np.abs(times - hi) > 1e-9)
@@ -111,7 +113,7 @@ def _pieces(lo, hi) -> int:
 
 def test_own_windows_agree_with_the_own_reach_bound():
     """An arc of radius r round a moving robot's circle placed at time 0.7: every start time
-    inside the windows makes moving.own_reach call the sub-arc too close, and none outside."""
+    inside the windows makes clearance.own_reach call the sub-arc too close, and none outside."""
     r, k, tol = 0.2, 8, 1e-5
     rng = np.random.default_rng(11)
     held = 0
@@ -128,7 +130,7 @@ def test_own_windows_agree_with_the_own_reach_bound():
             norm = math.hypot(mx, my)
             lo, hi = tw.own_windows(mx / norm, my / norm, vx, vy, r, h, i, placed, swp, k, tol)
             inside = ((lo[:, None] < times) & (times < hi[:, None])).any(0)
-            bound = moving.own_reach([px[i], px[i + 1]], [py[i], py[i + 1]], 0.0, 0.0, r,
+            bound = clearance.own_reach([px[i], px[i + 1]], [py[i], py[i + 1]], 0.0, 0.0, r,
                                      times + i * h, h, vx, vy, placed, swp / k, tol)
             # (sub-arc i alone: it starts i h after the arc; its angle is swp / k)
             clear = ((np.abs(times[:, None] - lo) > 1e-9) & (np.abs(times[:, None] - hi) > 1e-9)).all(1)
@@ -160,7 +162,7 @@ def _lookups_and_decoder(d: dict, model: str, collision: str, rows: int, seed: i
     dec = jax.jit(lambda p, lab, lg: decode_batch(untimed, p, lab, collision, lg))(
         perm, labels, legs)
     motion = jax.tree.map(jax.numpy.asarray, sa.motion)
-    in_time = jax.jit(lambda d: moving.violations(d, motion, sc.n))(dec)
+    in_time = jax.jit(lambda d: clearance.violations(d, motion, sc.n))(dec)
     # A wrap's violation (wrap_moving "never") is in the table's static columns.
     mover = np.isin(np.asarray(dec.obstacle), np.asarray(motion.index))
     real = np.arange(mover.shape[1])[None] < np.asarray(dec.count)[:, None]
@@ -174,7 +176,7 @@ CASES = [("tight-rope", "full", "at-pass"), ("tight-rope", "full", "given"),
          ("tight-rope", "paper", "given"), ("free", "full", "given"),
          ("free", "full", "never")]
 """(The Reeds–Shepp car's turn table at 9 robots is too large to be given windows
-(``time_windows.fits``): its fitness decodes, as the fuzz of tests/test_moving.py checks.)"""
+(``windows.fits``): its fitness decodes, as the fuzz of tests/test_moving.py checks.)"""
 
 
 @pytest.mark.parametrize(("model", "collision", "mode"), CASES)
@@ -212,7 +214,7 @@ def test_the_table_keeps_only_the_windows_that_hold_a_time():
     table = np.asarray(static.turns_full)
     c = np.asarray(sa64.tangents.circles).shape[0]
     full = tw.build(sa64.tangents, np.asarray(sa64.start), np.asarray(sa64.goal), sa64.motion,
-                    _movers(sc), moving.SUBARCS_64, 1e-7,
+                    _movers(sc), clearance.SUBARCS_64, 1e-7,
                     arrival=tw.soonest(table[:, 0], c))
     wide = full.reshape(full.shape[0], -1, 2)
     kept = table[:, 2:].reshape(table.shape[0], -1, 2)

@@ -19,9 +19,10 @@ import dataclasses
 import math
 import time
 
-from hga_jax.model import car_model, leg_space
+from hga_jax.model import car_model
+from hga_jax.model.cars.free_turns import leg_space
+from hga_jax.model.cars.free_turns.model import FreeTurns
 from hga_jax.model.exact import ExactResult, no_path, solve_tight_rope
-from hga_jax.model.free_turn_model import FreeTurns
 
 
 class FreeLegs(FreeTurns):

@@ -584,13 +584,13 @@ def _cmd_check(args) -> int:
         _emit(f"{path}: ok (scenario {sc.name}, {count(sc.n, 'obstacle')}, a feasible path "
               f"exists under {model_words(st.collision, turns)})")
         if sc.has_motion:  # a robot on the goal when the car gets there the shortest way
-            from hga_jax.model import moving
             from hga_jax.model.exact import solve
+            from hga_jax.model.in_time import clearance
 
             still = solve(sc.still_scene(), st.collision, turns=turns)
             if still.feasible and math.isfinite(still.length):
                 t = still.length / sc.speed
-                for k, gap in moving.at(sc, sc.goal[:2], t):
+                for k, gap in clearance.at(sc, sc.goal[:2], t):
                     _emit(f"{path}: note: moving robot {k + 1} holds the goal at t = {t:.3f} s, "
                           f"when the car arrives on the standing robots' shortest path "
                           f"({still.length:.3f} m at {sc.speed:g} m/s; {-gap:.3f} m inside "

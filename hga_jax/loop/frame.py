@@ -13,7 +13,7 @@ each robot's circle stands where it is when the car could first get there
 (:func:`placement`), and the tangent table (field and missing tangents only: no robot
 stands still for the static rules) is built by :func:`hga_jax.model.tangents.table` from
 jax arrays. The fitness then decodes leg by leg and adds the tests in time
-(:mod:`hga_jax.model.moving`). Units: metres, seconds, radians.
+(:mod:`hga_jax.model.in_time.clearance`). Units: metres, seconds, radians.
 """
 from __future__ import annotations
 

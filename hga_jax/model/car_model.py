@@ -1,8 +1,8 @@
 """Car models: what a path may be, one object per model behind one seam.
 
 A *car model* says which paths a car may drive among the obstacles: the paper's tight
-rope (turns on the model circles only, :mod:`hga_jax.model.tight_rope`) and free turns
-(turns on circles of radius rho in free space too, :mod:`hga_jax.model.free_turn_model`).
+rope (turns on the model circles only, :mod:`hga_jax.model.cars.tight_rope.model`) and free turns
+(turns on circles of radius rho in free space too, :mod:`hga_jax.model.cars.free_turns.model`).
 Everything that differs between models is a method or an attribute of its
 :class:`CarModel`; the GA loop, the runner, the command line, studies, peers, plots and
 reports ask the model of the settings (``GASettings.model``) or of a result, and never
@@ -221,8 +221,8 @@ def _builtins() -> None:
     _loaded.append(True)
     import importlib
 
-    for module in ("tight_rope", "free_turn_model", "reeds_shepp_model"):  # each registers
-        importlib.import_module(f"{__package__}.{module}")
+    for car in ("tight_rope", "free_turns", "reeds_shepp"):  # each model module registers
+        importlib.import_module(f"{__package__}.cars.{car}.model")
 
 
 _loaded: list[bool] = []

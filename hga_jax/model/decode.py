@@ -18,7 +18,7 @@ Violations: the rules of :mod:`hga_jax.model.collision` (segments against
 obstacles by the criterion of ``collision``, arcs against every obstacle but their
 own circle in ``"full"`` mode, pieces leaving the kept field, missing tangents);
 the segments' are in the tangent table, the arcs' are counted here. Among robots that
-move (``ScenarioArrays.motion``), the violations in time of :mod:`hga_jax.model.moving`
+move (``ScenarioArrays.motion``), the violations in time of :mod:`hga_jax.model.in_time.clearance`
 are added.
 """
 from __future__ import annotations
@@ -31,7 +31,8 @@ import jax.numpy as jnp
 from hga_jax.model import circle_ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
-from hga_jax.model import moving, reversing
+from hga_jax.model.cars.reeds_shepp import reversing
+from hga_jax.model.in_time import clearance
 from .scenario import ScenarioArrays
 
 
@@ -53,9 +54,9 @@ class Decoded(NamedTuple):
       a tangent. A reversing car's has 9 columns: then ``q1x, q1y, q2x, q2y, cusps``:
       the leg runs straight from P1 to Q1, over the free circle to Q2, straight to P2,
       with a cusp at Q1 (``cusps`` bit 0) and at Q2 (bit 1)
-      (:mod:`hga_jax.model.reeds_shepp_legs`). None without leg genes.
+      (:mod:`hga_jax.model.cars.reeds_shepp.legs`). None without leg genes.
     gears: (B, 2) bool, whether the path leaves the start and arrives at the goal
-      driven backward (a car that reverses, :mod:`hga_jax.model.reeds_shepp_legs`);
+      driven backward (a car that reverses, :mod:`hga_jax.model.cars.reeds_shepp.legs`);
       None for the forward car.
     """
 
@@ -141,7 +142,7 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
     looks its tangent up in ``sa.tangents``; each arc is tested against every
     obstacle (:func:`hga_jax.model.collision.arc_violations`). ``legs`` (B, n + 2)
     int32 in 0..2, positional: the leg gene of each position (free turns,
-    :mod:`hga_jax.model.free_legs`; the gene of a touched position picks the leg to
+    :mod:`hga_jax.model.cars.free_turns.legs`; the gene of a touched position picks the leg to
     the next touched circle); each leg then looks up ``sa.free_legs`` instead.
     """
     sa = jax.tree.map(jnp.asarray, sa)
@@ -251,5 +252,5 @@ def decode_batch(sa: ScenarioArrays, perm, labels, collision: str = "full",
     )
     if sa.motion is None:
         return decoded
-    return decoded._replace(violations=viol + moving.violations(
-        decoded, sa.motion, sa.centres.shape[0], moving.subarcs_of(dt)))
+    return decoded._replace(violations=viol + clearance.violations(
+        decoded, sa.motion, sa.centres.shape[0], clearance.subarcs_of(dt)))

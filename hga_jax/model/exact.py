@@ -70,13 +70,13 @@ class ExactResult:
       inf, ``expressible`` True, no paths, and ``message`` says why in a line.
     turns: the car model's name (:mod:`hga_jax.model.car_model`): ``"tight-rope"`` (the
       paper's) or ``"free"`` (turns on circles of radius rho in free space too,
-      :mod:`hga_jax.model.free_turn_model`). Under free turns
+      :mod:`hga_jax.model.cars.free_turns.model`). Under free turns
       ``tight_rope_length`` is the tight-rope optimum (m) and ``free_arcs`` the number of
       free arcs on the path; a path with free arcs has no chromosome (``expressible``
       False, ``best_expressible`` the tight-rope optimum's path) and its arcs on free
       circles carry ``"free": true`` in ``segments``. ``details``: what a car model
       records beside (:meth:`~hga_jax.model.car_model.CarModel.extras` writes them).
-    Among robots that move (:mod:`hga_jax.model.moving_optimum`): ``optimal`` False when
+    Among robots that move (:mod:`hga_jax.model.in_time.optimum`): ``optimal`` False when
       the path is only the shortest known feasible in time, and ``lower_bound`` the
       standing robots' optimum (m); result files carry both keys for such scenes only.
     """
@@ -194,11 +194,11 @@ def solve(scenario: Scenario, collision: str = "full", turns: str = car_model.DE
         raise ValueError(f"turns: {problem}")
     model = car_model.get(turns)
     if scenario.has_motion:  # a lower bound, certified when clear in time
-        from . import moving_optimum
+        from .in_time import optimum
 
         if car is not None and car != scenario.car:
             scenario = dataclasses.replace(scenario, car=car)
-        return scenario.cached(("moving optimum", collision, turns), lambda: moving_optimum.solve(
+        return scenario.cached(("moving optimum", collision, turns), lambda: optimum.solve(
             scenario, collision, lambda scene: model.solve(scene, collision)))
     return model.solve(scenario, collision)
 

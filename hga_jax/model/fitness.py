@@ -15,8 +15,8 @@ from typing import Any, NamedTuple
 import jax
 import jax.numpy as jnp
 
-from . import reversing as reversing_rule
-from . import time_windows
+from .cars.reeds_shepp import reversing as reversing_rule
+from .in_time import windows
 from .decode import decode_batch, position_circles
 from .scenario import ScenarioArrays
 
@@ -56,13 +56,13 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
     first) and ``b``; each touched circle ``c`` (the goal circle always) adds turn
     ``(i, b, v_b C + c)`` and moves on; the goal arc is turn ``(i, goal circle, goal
     point)``. ``legs`` (B, n + 2), positional: the leg genes of free turns
-    (:mod:`hga_jax.model.free_legs`), ``V = variants``; without them ``V = 1``, the
+    (:mod:`hga_jax.model.cars.free_turns.legs`), ``V = variants``; without them ``V = 1``, the
     tight rope. ``reversing``: the genes are a reversing car's, whose start and goal
-    circles follow its gears (:mod:`hga_jax.model.reversing`): the scan also carries
+    circles follow its gears (:mod:`hga_jax.model.cars.reeds_shepp.reversing`): the scan also carries
     the gear changes so far.
     """
     c, entries = circles, jnp.asarray(entries)
-    timed = entries.shape[1] > 2  # a table among robots that move (hga_jax.model.time_windows)
+    timed = entries.shape[1] > 2  # a table among robots that move (hga_jax.model.in_time.windows)
     ids, touched = position_circles(perm, labels)
     batch = perm.shape[0]
     dt = entries.dtype
@@ -92,7 +92,7 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
             gear = (jnp.where(on, ln, lb), odd)
         row = turn(i, b, nxt if vb is None else vb * c + nxt, on)
         if timed:  # the windows in time hold the metres driven on arrival
-            viol = viol + jnp.where(on, time_windows.hits(row[:, 2:], length), 0)
+            viol = viol + jnp.where(on, windows.hits(row[:, 2:], length), 0)
         length = length + jnp.where(on, row[:, 0], 0.0)
         viol = viol + jnp.where(on, row[:, 1], 0.0)
         i = jnp.where(on, b if vb is None else vb * c + b, i)
@@ -107,7 +107,7 @@ def looked_up(entries, circles: int, perm, labels, legs=None, variants: int = 3,
     (i, b, _, length, viol, _), _ = jax.lax.scan(body, init, xs)
     row = turn(i, b, jnp.full((batch,), rows, jnp.int32))
     if timed:
-        viol = viol + time_windows.hits(row[:, 2:], length)
+        viol = viol + windows.hits(row[:, 2:], length)
     return length + row[:, 0], (viol + row[:, 1]).astype(jnp.int32)
 
 
@@ -115,8 +115,8 @@ def turn_table(sa: ScenarioArrays, collision: str = "full", genes: bool = False)
     """``(table, reversing)``: the turn table :func:`evaluate` reads for chromosomes with
     leg genes (``genes``) or without, None where it decodes leg by leg; and whether the
     legs are a reversing car's (their cusps counted). Among robots that move a table
-    carries each turn's windows in time (:mod:`hga_jax.model.time_windows`); without one
-    the decoder runs the tests in time (:mod:`hga_jax.model.moving`)."""
+    carries each turn's windows in time (:mod:`hga_jax.model.in_time.windows`); without one
+    the decoder runs the tests in time (:mod:`hga_jax.model.in_time.clearance`)."""
     if genes:
         return sa.turns_free, sa.free_legs is not None and sa.free_legs.cusps is not None
     return (sa.turns_full if collision == "full" else sa.turns_paper), False

@@ -3,7 +3,7 @@
 A graph's nodes are points on oriented circles, its edges tangent pieces (straight, or
 standing for a curve) and arcs along a circle, in compressed sparse rows. Built by
 :mod:`hga_jax.model.tangent_graph` for :mod:`hga_jax.model.exact` (the tight rope) and
-:mod:`hga_jax.model.free_turns` (free turns). Host code; metres and radians.
+:mod:`hga_jax.model.cars.free_turns.turns` (free turns). Host code; metres and radians.
 """
 from __future__ import annotations
 

@@ -34,7 +34,7 @@ Nothing else here depends on a path: an arc on an obstacle's circle depends on t
 legs before and after it, and only decoding a chromosome gives it.
 
 Under free turns (:func:`free_aware`) a pair whose tangent is bad but whose leg gene 0
-runs over a clear free circle (:class:`~hga_jax.model.free_legs.LegTable`) counts as
+runs over a clear free circle (:class:`~hga_jax.model.cars.free_turns.legs.LegTable`) counts as
 clear, with that leg's length: the operators see the legs the decoder will take (and
 the end arcs are folded in from where those legs leave and arrive).
 

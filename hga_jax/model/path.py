@@ -20,7 +20,9 @@ import numpy as np
 
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
-from . import free_legs, moving, reversing
+from hga_jax.model.cars.free_turns import legs as free_legs
+from hga_jax.model.cars.reeds_shepp import reversing
+from hga_jax.model.in_time import clearance
 from hga_jax.errors import ConfigError
 from .scenario import Scenario
 from .touch import Touch, touch_list
@@ -100,8 +102,8 @@ class Path:
       "field" | "missing cusp" | "moving obstacle" | "moving obstacle wrapped", "segment":
       index into segments (None for a zero-length piece), "obstacle": number from 1 (None
       unless kind names an obstacle)}``. Among robots that move, ``violations`` is the
-      float64 decoder's count (:data:`hga_jax.model.moving.SUBARCS_64` sub-arcs) and the
-      entries in time are the float64 path check's (:func:`hga_jax.model.moving.segment_hits`).
+      float64 decoder's count (:data:`hga_jax.model.in_time.clearance.SUBARCS_64` sub-arcs) and the
+      entries in time are the float64 path check's (:func:`hga_jax.model.in_time.clearance.segment_hits`).
     legs: the leg genes of a free-turn chromosome (positional, as ``lower``), or None;
       arcs on free circles carry ``"free": true`` in ``segments``, and pieces driven
       backward (a car that reverses) ``"reverse": true``.
@@ -254,12 +256,12 @@ def evaluate_path(scenario: Scenario, perm: Sequence[int], labels: Sequence[int]
                               else None, "obstacle": None})
                 backward[0] = not backward[0]
     touched = [Touch(int(d.obstacle[s]) + 1, int(d.circles[s][3])) for s in range(1, count - 1)]
-    if scenario.has_motion:  # in time: the float64 check of hga_jax.model.moving
+    if scenario.has_motion:  # in time: the float64 check of hga_jax.model.in_time.clearance
         if scenario.wrap_moving == "never":
             where += [{"kind": "moving obstacle wrapped", "segment": None,
                        "obstacle": t.obstacle} for t in touched if scenario.moving[t.obstacle - 1]]
         where += [{"kind": "moving obstacle", "segment": i, "obstacle": k + 1}
-                  for i, k in moving.segment_hits(scenario, segments)]
+                  for i, k in clearance.segment_hits(scenario, segments)]
     return Path(float(d.length), int(d.violations), upper, lower, segments, touched, where,
                 None if legs is None else [int(v) for v in legs])
 

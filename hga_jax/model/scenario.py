@@ -17,7 +17,7 @@ Robots that move (docs/model.md, "Moving robots"): ``Scenario.velocities`` gives
 obstacle's velocity (m/s; None or zeros: every robot stands) and ``Scenario.speed`` the
 car's (m/s). The static rules and tables test pieces only against the robots that stand
 (``ScenarioArrays.model_radii`` is 0 for one that moves: :attr:`Scenario.blocking_radii`);
-a moving robot's clearance is judged in time by :mod:`hga_jax.model.moving` from
+a moving robot's clearance is judged in time by :mod:`hga_jax.model.in_time.clearance` from
 ``ScenarioArrays.motion``. A chromosome may wrap a moving robot: its circle stands in the
 tables where the robot is when the car passes it (``wrap_moving = "at-pass"``,
 :meth:`Scenario.placement_times`); ``"never"`` makes it a point that a chromosome wraps
@@ -33,8 +33,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from hga_jax.model import legs, tangents, time_windows
+from hga_jax.model import legs, tangents
 from hga_jax.model import turns as turn_tables
+from hga_jax.model.in_time import windows
 
 
 @dataclass(frozen=True)
@@ -105,7 +106,7 @@ class Scenario:
     @property
     def blocking_radii(self) -> np.ndarray:
         """The radii the static rules test pieces against (m): ``R_i`` for a robot that
-        stands, 0 for one that moves (it blocks nothing in space; :mod:`hga_jax.model.moving`
+        stands, 0 for one that moves (it blocks nothing in space; :mod:`hga_jax.model.in_time.clearance`
         judges it in time)."""
         return np.where(self.moving, 0.0, self.model_radii)
 
@@ -121,16 +122,17 @@ class Scenario:
             times = np.zeros(self.n)
             if not self.has_motion or self.wrap_moving == "never":
                 return times
-            from . import exact, moving
+            from . import exact
+            from .in_time import clearance
 
             movers = np.flatnonzero(self.moving)
             times[movers] = np.hypot(*(self.centres[movers] - self.start[:2]).T) / self.speed
             ref = exact.solve(self if self.wrap_moving == "at-best" else self.still_scene(),
                               "full")
             if ref.feasible and ref.segments:
-                for a in moving.closest_approach(self, ref.segments, spacing=5e-3):
+                for a in clearance.closest_approach(self, ref.segments, spacing=5e-3):
                     times[a.obstacle] = a.time
-                for k, t in moving.moments_wrapped(self, ref.segments).items():
+                for k, t in clearance.moments_wrapped(self, ref.segments).items():
                     times[k] = t
             return times
 
@@ -221,7 +223,7 @@ class Scenario:
         otherwise without one, and the fitness decodes leg by leg. Built once per mode
         (from the float64 tangent table), cast per dtype. ``with_legs``: also the
         per-leg blockers that the path operators read (:mod:`hga_jax.model.legs`).
-        Free-turn chromosomes take :func:`hga_jax.model.free_legs.search_arrays`."""
+        Free-turn chromosomes take :func:`hga_jax.model.cars.free_turns.legs.search_arrays`."""
         sa = self.arrays(dtype)
         name = np.dtype(dtype).name
         if with_legs:
@@ -250,9 +252,9 @@ class Scenario:
         if table is None:
             return sa
         looked = table
-        if self.has_motion:  # each turn's windows in time (hga_jax.model.time_windows)
+        if self.has_motion:  # each turn's windows in time (hga_jax.model.in_time.windows)
             def timed():
-                return time_windows.for_scenario(self, table, dtype)
+                return windows.for_scenario(self, table, dtype)
 
             looked = self.cached((collision, "in time", name), timed)
             if looked is None:
@@ -272,7 +274,7 @@ class Scenario:
 
     def cached(self, key: Any, build: Any) -> Any:
         """``build()``, made once per ``key`` and kept with the scenario (the tables that
-        other modules derive from it, such as :mod:`hga_jax.model.free_legs`')."""
+        other modules derive from it, such as :mod:`hga_jax.model.cars.free_turns.legs`')."""
         if key not in self._turns:
             self._turns[key] = build()
         return self._turns[key]
@@ -356,13 +358,13 @@ class ScenarioArrays(NamedTuple):
     tight_legs: under a model with leg genes, the legs of its tangents (what ``legs``
     is for the tight rope: a blocked tangent is blocked even where gene 0 gets round it
     by a free leg), for the ``tight_of_best`` children; else None.
-    free_legs: the :class:`~hga_jax.model.free_legs.LegTable` of free-turn chromosomes,
+    free_legs: the :class:`~hga_jax.model.cars.free_turns.legs.LegTable` of free-turn chromosomes,
     turns_free: its turn table's entries (or None: decoded leg by leg); both only from
-    :func:`hga_jax.model.free_legs.search_arrays`.
+    :func:`hga_jax.model.cars.free_turns.legs.search_arrays`.
     motion: the :class:`Motion` of the moving robots, or None (nothing moves). Among robots
     that move the tight rope's and free turns' turn tables carry each turn's windows in time
-    (:mod:`hga_jax.model.time_windows`); without one the fitness decodes leg by leg and
-    adds the violations in time (:mod:`hga_jax.model.moving`).
+    (:mod:`hga_jax.model.in_time.windows`); without one the fitness decodes leg by leg and
+    adds the violations in time (:mod:`hga_jax.model.in_time.clearance`).
     present: (n,) bool, which obstacles are there, or None (all): the obstacles of a frame
     padded to a bound (:mod:`hga_jax.loop`); a chromosome never touches one that is not
     (its label reads as 0).

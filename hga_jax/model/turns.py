@@ -57,7 +57,7 @@ def fits(n: int, variants: int = 1) -> bool:
 class TurnTable(NamedTuple):
     """``(V C + 1) * C * (V C + 1)`` turns, flattened (index ``(i * C + b) * (V C + 1) + d``:
     the leg ``i = v_a C + a`` arrives on ``b``, the leg ``d = v_b C + c`` leaves it, leg
-    genes ``v`` of :mod:`hga_jax.model.free_legs`; ``V = 1`` for the tight rope, whose
+    genes ``v`` of :mod:`hga_jax.model.cars.free_turns.legs`; ``V = 1`` for the tight rope, whose
     index is ``(a * C + b) * (C + 1) + c``; ``V C`` stands for the start and goal point).
 
     entries: ``(T, 2)`` per turn: length (m) and violations (a small integer, exact
@@ -72,7 +72,7 @@ class TurnTable(NamedTuple):
 def usable(tb: TangentTable, back: int | None = None) -> bool:
     """No two circles that can follow one another on a path share a centre. ``back``:
     the first of four more pose circles (start, start, goal, goal: a car that reverses,
-    :mod:`hga_jax.model.reversing`), or None."""
+    :mod:`hga_jax.model.cars.reeds_shepp.reversing`), or None."""
     c = tb.circles.shape[0]
     ids = np.arange(c)
     obstacle = np.asarray(tb.obstacle)
@@ -90,7 +90,7 @@ def build(tb: TangentTable, start, goal, centres, model_radii, bounds,
 
     ``collision``: ``"full"`` tests every arc against the obstacles' model circles;
     ``"paper"`` only against the field (the paper's criterion judges segments only).
-    ``legs``: a float64 :class:`~hga_jax.model.free_legs.LegTable` (free turns, the
+    ``legs``: a float64 :class:`~hga_jax.model.cars.free_turns.legs.LegTable` (free turns, the
     full rule): the legs between two circles are its ``V`` variants instead of the
     tangent alone. ``back``: as :func:`usable`.
     """

@@ -26,7 +26,7 @@ orientation ``sign`` (+1 CW, -1 CCW): ``A`` at ``start_angle``, ``B`` at
 -sign(sweep)``. A peer that returns waypoint poses (a sampling planner in a Dubins
 state space) has its consecutive poses joined by the shortest Dubins path
 (:func:`hga_jax.model.dubins.shortest`), a Reeds–Shepp planner's by the shortest
-Reeds–Shepp path (:func:`hga_jax.model.reeds_shepp.shortest`), as the planner itself
+Reeds–Shepp path (:func:`hga_jax.model.cars.reeds_shepp.closed_form.shortest`), as the planner itself
 joins them.
 
 Host code (numpy, float64); metres and radians.

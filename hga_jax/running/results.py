@@ -97,7 +97,7 @@ class RunsResult:
     @property
     def yardstick(self) -> str:
         """What the gaps are measured against: ``"optimum"`` or ``"lower bound"`` (robots
-        that move, no optimum certified: :mod:`hga_jax.model.moving_optimum`)."""
+        that move, no optimum certified: :mod:`hga_jax.model.in_time.optimum`)."""
         opt = self.optimum
         return "lower bound" if opt is not None and not opt.optimal else "optimum"
 

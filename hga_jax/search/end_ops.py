@@ -1,7 +1,7 @@
 """Moves on the ends of a reversing car's path: how it leaves the start, how it
 reaches the goal.
 
-A Reeds–Shepp chromosome (:mod:`hga_jax.model.reversing`) decides its first leg by
+A Reeds–Shepp chromosome (:mod:`hga_jax.model.cars.reeds_shepp.reversing`) decides its first leg by
 three genes at once: the start's label (which turning circle), the goal position's
 leg gene (the gear the car starts in) and the start's leg gene (a tangent, a free
 circle, a quarter turn); its last leg by two: the goal's label and the leg gene of

@@ -1,13 +1,13 @@
 """Genetic operators on the leg module of free-turn chromosomes: one gene per position.
 
-Conventions (:mod:`hga_jax.model.free_legs`):
+Conventions (:mod:`hga_jax.model.cars.free_turns.legs`):
 
 - Leg genes are a 1-D ``int32`` array of length ``L = n + 2``, positioned like the
   labels (:mod:`hga_jax.search.label_ops`): the gene of a touched position picks the
   leg from its circle to the next touched one, ``0`` a straight tangent, ``1`` or
   ``2`` a free circle of radius rho on one side or the other (a car that reverses
   has ``3`` and ``4`` too, and reads the goal's gene as the start's gear:
-  :mod:`hga_jax.model.reversing`). The genes of untouched positions (and the goal's,
+  :mod:`hga_jax.model.cars.reeds_shepp.reversing`). The genes of untouched positions (and the goal's,
   for the forward car) are carried but not read.
 - Every value is allowed at every position (a free leg that does not exist reads
   as straight), so crossover and mutation need no repair.

@@ -79,10 +79,10 @@ the plain ``"guided"`` move (resolved by :meth:`GASettings.for_obstacles`, recor
 permutation and the labels. ``"free"`` (the car's shortest path, full collision rule
 only): the model adds a module of leg genes, one per position (0 a straight tangent to
 the next touched circle, 1 or 2 a free circle of radius rho joining the two, on one
-side or the other: :mod:`hga_jax.model.free_legs`), crossed over by ``leg_crossover``
+side or the other: :mod:`hga_jax.model.cars.free_turns.legs`), crossed over by ``leg_crossover``
 with probability ``pc_legs`` per pair and mutated by ``leg_mutation`` with probability
 ``pm_legs`` per gene; it rides with the labels' ``label_binding``. The Reeds–Shepp
-car (``"reeds-shepp"``) has leg genes of seven values (:mod:`hga_jax.model.reversing`)
+car (``"reeds-shepp"``) has leg genes of seven values (:mod:`hga_jax.model.cars.reeds_shepp.reversing`)
 and moves on the ends of its path (``end_mutation``, with probability ``pm_ends`` per
 child: :mod:`hga_jax.search.end_ops`); ``ends_of_best = k`` makes the last k children
 of every generation copies of the parents' best, moved at their ends (a local search

@@ -16,7 +16,7 @@ the free-turn optimum. Units: metres and degrees (as in a scenario file).
 
 A scene is kept only when its tight-rope optimum is feasible, the free-turn optimum
 is shorter by at least :data:`MIN_SAVING`, and a chromosome with leg genes expresses it
-(:func:`hga_jax.model.leg_space.shortest` reaches it): the scenes a free-turn GA can
+(:func:`hga_jax.model.cars.free_turns.leg_space.shortest` reaches it): the scenes a free-turn GA can
 hit. Scene ``i`` with ``n`` obstacles of seed ``s`` depends on ``(s, n, i)`` alone.
 """
 from __future__ import annotations
@@ -25,9 +25,9 @@ import math
 
 import numpy as np
 
-from hga_jax.model import leg_space
+from hga_jax.model.cars.free_turns import leg_space
+from hga_jax.model.cars.free_turns.model import FREE_TURNS
 from hga_jax.model.exact import solve
-from hga_jax.model.free_turn_model import FREE_TURNS
 from . import clusters, scene_files
 
 KINDS = ("loops", "cluster_loops")

@@ -41,8 +41,8 @@ import math
 
 import numpy as np
 
-from hga_jax.model import moving
 from hga_jax.model.exact import solve
+from hga_jax.model.in_time import clearance
 from . import scene_files
 
 KINDS = ("leaving", "crossing", "random_moving", "standing")
@@ -98,7 +98,7 @@ def _still_path(d: dict, name: str):
     opt = solve(sc)
     if not opt.feasible:
         return None
-    x, y, t = moving.sample(opt.segments, sc.speed, 0.02)
+    x, y, t = clearance.sample(opt.segments, sc.speed, 0.02)
     return x, y, t, float(opt.length)
 
 
@@ -194,7 +194,7 @@ def kept(kind: str):
         bound = solve(sc.still_scene())
         if not bound.feasible:
             return False
-        certified = not moving.segment_hits(sc, bound.segments)
+        certified = not clearance.segment_hits(sc, bound.segments)
         if certified and not bound.expressible:  # an optimum no chromosome can hit
             return False
         if kind == "crossing" and certified:

@@ -23,7 +23,7 @@ run (:func:`columns`):
 
 The solver ``"frozen"`` (:func:`frozen_cell`) is what a planner without time returns: the
 exact optimum of the scene with every robot standing where it is at time 0, judged in
-time by :func:`hga_jax.model.moving.segment_hits` (float64). Its cell adds
+time by :func:`hga_jax.model.in_time.clearance.segment_hits` (float64). Its cell adds
 ``frozen_found`` (a path among the frozen robots exists), ``frozen_collides`` (it does,
 and meets a moving robot in time; missing without a path) and ``frozen_hits`` (the
 (segment, moving robot) pairs that meet). Its time is the static solve's.
@@ -81,12 +81,12 @@ def frozen_plan(scenario: Any, turns: str | None = None):
     """``(plan, hits)``: the exact optimum of ``scenario`` with every robot standing where
     it is at time 0 (:class:`~hga_jax.model.exact.ExactResult`), and its (segment, moving
     robot) pairs that meet in time (empty without a path, or where nothing moves)."""
-    from hga_jax.model import moving
     from hga_jax.model.exact import solve
+    from hga_jax.model.in_time import clearance
 
     snapshot = dataclasses.replace(scenario, velocities=None) if scenario.has_motion else scenario
     plan = solve(snapshot) if turns is None else solve(snapshot, turns=turns)
-    hits = moving.segment_hits(scenario, plan.segments) if plan.feasible else []
+    hits = clearance.segment_hits(scenario, plan.segments) if plan.feasible else []
     return plan, hits
 
 

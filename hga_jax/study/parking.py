@@ -29,8 +29,8 @@ import math
 
 import numpy as np
 
+from hga_jax.model.cars.reeds_shepp.model import REEDS_SHEPP
 from hga_jax.model.exact import solve
-from hga_jax.model.reeds_shepp_model import REEDS_SHEPP
 from . import scene_files
 
 KINDS = ("behind", "slot", "wall")

@@ -2,7 +2,7 @@
 
 The car drives its path at the scenario's constant speed from time 0, and robot ``j``'s
 centre at time ``t`` is ``O_j + t V_j``. A moving robot is drawn where it is when the
-car passes closest (:func:`hga_jax.model.moving.closest_approach`): its body as a
+car passes closest (:func:`hga_jax.model.in_time.clearance.closest_approach`): its body as a
 solid disc and its model circle, in :data:`C_MOVING`, numbered as the other
 obstacles; its model circle solid in the violation colour when it meets the car
 (clearance < 0), with a cross at the car's point then. Beside it: its track over the
@@ -29,7 +29,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrowPatch
 from matplotlib.text import Text
 
-from hga_jax.model import moving
+from hga_jax.model.in_time import clearance
 from hga_jax.model.scenario import Scenario
 from .labels import _box_at, _into_disc, _overlap, _renderer, _within
 from .style import C_BAD
@@ -79,7 +79,7 @@ def point_at(segments: Sequence[Mapping[str, Any]], speed: float,
              t: float) -> tuple[float, float, float]:
     """The car's point ``(x, y)`` at time ``t`` along the path and the direction of
     travel there (radians); the path's end after its duration."""
-    timed = moving.timed(segments, speed)
+    timed = clearance.timed(segments, speed)
     if not timed:
         raise ValueError("point_at: the path has no segment")
     seg = timed[-1]
@@ -114,7 +114,7 @@ class Drawn(NamedTuple):
 
 def duration(scenario: Scenario, segments: Sequence[Mapping[str, Any]]) -> float:
     """The time the car takes to drive ``segments`` (s)."""
-    timed = moving.timed(segments, float(scenario.speed))
+    timed = clearance.timed(segments, float(scenario.speed))
     return timed[-1].t1 if timed else 0.0
 
 
@@ -126,7 +126,7 @@ def draw_robots(ax: Axes, scenario: Scenario, segments: Sequence[Mapping[str, An
     radii, model = np.asarray(scenario.radii, float), np.asarray(scenario.model_radii, float)
     vel = np.asarray(scenario.velocities, float).reshape(-1, 2) if scenario.has_motion else None
     end = duration(scenario, segments)
-    found = moving.closest_approach(scenario, segments, start=scenario.start[:2])
+    found = clearance.closest_approach(scenario, segments, start=scenario.start[:2])
     numbers, points, crosses = {}, [], []
     named: list[Line2D] = []
     hits = 0

@@ -67,7 +67,7 @@ def _touches(touched: Iterable[Any], n: int, copies: bool = False) -> dict[int, 
     Items are the result files' ``{"obstacle": number from 1, "label": +1 | -1}`` or
     ``(number from 1, label)`` pairs (``Path.touched``, ``ExactResult.touched``).
     ``copies``: numbers past ``n`` are frozen copies of moving robots (the exact
-    solver's path among robots that move, :mod:`hga_jax.model.moving_optimum`), which
+    solver's path among robots that move, :mod:`hga_jax.model.in_time.optimum`), which
     the result files do not place: left out.
     """
     out = {}

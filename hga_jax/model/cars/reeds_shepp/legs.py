@@ -1,8 +1,8 @@
 """Reeds–Shepp chromosomes: free-turn legs driven in either gear, and their tables.
 
 The GA searches the Reeds–Shepp car's paths with the free-turn chromosome
-(:mod:`hga_jax.model.free_legs`) and two more values of its leg genes
-(:mod:`hga_jax.model.reversing` holds the gear rule):
+(:mod:`hga_jax.model.cars.free_turns.legs`) and two more values of its leg genes
+(:mod:`hga_jax.model.cars.reeds_shepp.reversing` holds the gear rule):
 
 - ``0`` a tangent; ``1``/``2`` a free circle of radius rho touching both circles of
   the leg, on side 0 or 1, turning against the circle it leaves (no cusp there);
@@ -28,24 +28,27 @@ from typing import Any
 
 import numpy as np
 
+from hga_jax.model import circle_ids as ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
-from . import circle_ids as ids
-from . import free_legs, reversing, tangents, time_windows
-from . import legs as leg_info
-from . import turns as turn_tables
-from .reeds_shepp_graph import quarter_routes
-from .scenario import Scenario, ScenarioArrays
+from hga_jax.model import legs as leg_info
+from hga_jax.model import tangents
+from hga_jax.model import turns as turn_tables
+from hga_jax.model.cars.free_turns import legs as free_legs
+from hga_jax.model.cars.reeds_shepp import reversing
+from hga_jax.model.cars.reeds_shepp.graph import quarter_routes
+from hga_jax.model.in_time import windows
+from hga_jax.model.scenario import Scenario, ScenarioArrays
 
 VARIANTS = 7
 """Leg genes: 0 a tangent, 1-2 a free circle against the leg's first circle, 3-4 with
 it, 5 and 6 the quarter turns leaving the start and reaching the goal
-(:mod:`hga_jax.model.reversing`)."""
+(:mod:`hga_jax.model.cars.reeds_shepp.reversing`)."""
 
 
 def circles(sc: Scenario, dtype: Any = np.float64) -> tuple[np.ndarray, ...]:
     """``(x, y, r, sign, obstacle)`` of the ``C + 4`` circles: the scenario's, then pose
-    circle ``k``'s backward twin ``C + k`` (:mod:`hga_jax.model.reversing`): the car's
+    circle ``k``'s backward twin ``C + k`` (:mod:`hga_jax.model.cars.reeds_shepp.reversing`): the car's
     other turning circle at that pose, travelled in circle ``k``'s sense."""
     x, y, r, sign, own = sc.circles(dtype)
     k = np.arange(ids.POSES) ^ 1  # the other circle of the pose's pair
@@ -94,7 +97,7 @@ def table(sc: Scenario) -> tuple[free_legs.FreeLegs, np.ndarray, np.ndarray]:
 def quarters(sc: Scenario):
     """The quarter-turn legs (genes 5 and 6), one per pair of circles: ``(gene, S, T, P1,
     Q1, Q2, P2, F, sign, sweep, length, violations)``, from the routes of
-    :func:`hga_jax.model.reeds_shepp_graph.quarter_routes`. Of several routes joining
+    :func:`hga_jax.model.cars.reeds_shepp.graph.quarter_routes`. Of several routes joining
     one pair, the one with fewest violations (its quarter turn and tangent against the
     obstacles and the field), then the shortest with the arc on the pose circle
     between the route and the start or goal point."""
@@ -138,10 +141,10 @@ def quarters(sc: Scenario):
 
 
 def leg_table(sc: Scenario, dtype: Any = np.float64) -> free_legs.LegTable:
-    """The :class:`~hga_jax.model.free_legs.LegTable` of Reeds–Shepp chromosomes in
+    """The :class:`~hga_jax.model.cars.free_turns.legs.LegTable` of Reeds–Shepp chromosomes in
     ``dtype`` (built once per dtype), with the cusps of every entry and the points
     Q1, Q2 of its free circle. A gene that promises a change of gear (an odd parity,
-    :func:`hga_jax.model.reversing.odd_leg`) where no such leg exists reads as gene 0
+    :func:`hga_jax.model.cars.reeds_shepp.reversing.odd_leg`) where no such leg exists reads as gene 0
     with one more violation."""
     dtype = np.dtype(dtype)
 
@@ -203,7 +206,7 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
             return None
         if not sc.has_motion:
             return np.asarray(built.entries, dtype)
-        timed = time_windows.for_scenario(sc, built.entries, dtype, leg_table(sc),
+        timed = windows.for_scenario(sc, built.entries, dtype, leg_table(sc),
                                           tangent_table(sc))
         return None if timed is None else np.asarray(timed, dtype)
 

@@ -1,6 +1,6 @@
 """Gears of a reversing car's chromosome: the one rule that says where it drives backward.
 
-A Reeds–Shepp chromosome (:mod:`hga_jax.model.reeds_shepp_legs`) is a free-turn one
+A Reeds–Shepp chromosome (:mod:`hga_jax.model.cars.reeds_shepp.legs`) is a free-turn one
 whose leg genes take seven values: ``0`` a tangent, ``1``/``2`` a free circle turning
 against the circle the leg leaves (on one side or the other), ``3``/``4`` the same
 free circle turning the same way as that circle, ``5`` on the leg that leaves the
@@ -22,13 +22,13 @@ promised an odd parity the leg table counts a violation.
 Circles: a reversing car adds, after the scenario's ``C = 2n + 4``, the four pose
 circles travelled backward, ``C + k`` for pose circle ``k`` (start CCW, start CW, goal
 CCW, goal CW, by their sense of travel): the car's other turning circle at that pose
-(:func:`hga_jax.model.reeds_shepp_legs.circles`). A pose circle's backward twin is its
+(:func:`hga_jax.model.cars.reeds_shepp.legs.circles`). A pose circle's backward twin is its
 id plus :func:`offset`. Pure functions of arrays (JAX, jit/vmap-able; :func:`odd_leg`
 also of numbers and numpy arrays).
 """
 from __future__ import annotations
 
-from . import circle_ids
+from hga_jax.model import circle_ids
 
 BACKWARD = 3
 """A goal-position gene of at least this value starts the path backward."""

@@ -1,15 +1,15 @@
 """The Reeds–Shepp car (``car = "reeds-shepp"``): the car that also drives backward.
 
 Reeds and Shepp (1990) gave the shortest path of a car that turns with radius rho and
-drives forward or backward, changing gear at cusps (:mod:`hga_jax.model.reeds_shepp`).
+drives forward or backward, changing gear at cusps (:mod:`hga_jax.model.cars.reeds_shepp.closed_form`).
 Among obstacles its paths are those of free turns driven in either gear
-(:mod:`hga_jax.model.reeds_shepp_graph`): every free-turn path is one, so its optimum
+(:mod:`hga_jax.model.cars.reeds_shepp.graph`): every free-turn path is one, so its optimum
 is never longer than the free-turn optimum, which is never longer than the tight
 rope's; the result reports all three. Its arcs on free circles are judged against
 every obstacle, so the model needs the full collision test. A piece driven backward
 carries ``"reverse": true`` in the segments of the result files; summaries count the
 cusps. The GA searches its paths with leg genes of five values and the start's gear
-(:mod:`hga_jax.model.reeds_shepp_legs`, :mod:`hga_jax.model.reversing`). Host code;
+(:mod:`hga_jax.model.cars.reeds_shepp.legs`, :mod:`hga_jax.model.cars.reeds_shepp.reversing`). Host code;
 metres.
 """
 from __future__ import annotations
@@ -23,13 +23,13 @@ import numpy as np
 
 from hga_jax.errors import ModelMismatchError
 from hga_jax.words import count
-from . import car_model
+from hga_jax.model import car_model
 
 LEGS = car_model.GeneModule(name="legs", weights=(6, 1, 1, 1, 1, 1, 1),
                             crossover="leg_crossover", mutation="leg_mutation", pc="pc_legs",
                             pm="pm_legs", words="leg genes (with gears)", ends="end_mutation",
                             pe="pm_ends", straight="straight_of_best", tight="tight_of_best")
-"""One gene per leg, seven values (:mod:`hga_jax.model.reversing`): 0 a tangent, 1-2 a
+"""One gene per leg, seven values (:mod:`hga_jax.model.cars.reeds_shepp.reversing`): 0 a tangent, 1-2 a
 free circle against the leg's first circle, 3-4 with it (a cusp), 5-6 the quarter
 turns leaving the start and reaching the goal; the goal's gene, 3 or more, starts the
 path backward. Fresh genes are straight half the time (so most fresh paths start
@@ -65,23 +65,23 @@ class ReedsShepp(car_model.CarModel):
 
     def search_arrays(self, scenario: Any, dtype: Any, collision: str,
                       with_legs: bool = False) -> Any:
-        from .reeds_shepp_legs import search_arrays
+        from hga_jax.model.cars.reeds_shepp.legs import search_arrays
 
         return search_arrays(scenario, dtype, with_legs)
 
     def decode_arrays(self, scenario: Any) -> Any:
-        from . import reeds_shepp_legs as legs
+        from hga_jax.model.cars.reeds_shepp import legs
 
         return scenario.arrays(np.float64)._replace(tangents=legs.tangent_table(scenario),
                                                     free_legs=legs.leg_table(scenario))
 
     def connect(self, p: Any, q: Any, rho: float) -> list[dict[str, Any]]:
-        from . import reeds_shepp
+        from hga_jax.model.cars.reeds_shepp import closed_form
 
-        return reeds_shepp.segments(p, reeds_shepp.shortest(p, q, rho).pieces, rho)
+        return closed_form.segments(p, closed_form.shortest(p, q, rho).pieces, rho)
 
     def graph(self, scenario: Any, collision: str) -> Any:
-        from .reeds_shepp_graph import build
+        from hga_jax.model.cars.reeds_shepp.graph import build
 
         return build(scenario)[0]
 
@@ -113,7 +113,7 @@ class ReedsShepp(car_model.CarModel):
             line = (f"free-turn optimum {free:.6f} m (forward only); reversing saves "
                     f"{100 * (1 - optimum.length / free):.2f}% (ratio {optimum.length / free:.6f})")
         tight = self.extras(optimum)["tight_rope_length"]
-        from .no_path import NO_PATH
+        from hga_jax.model.no_path import NO_PATH
 
         if tight is None:
             return [line, f"tight-rope optimum: {NO_PATH}"]
@@ -122,18 +122,18 @@ class ReedsShepp(car_model.CarModel):
 
 
 def solve_reeds_shepp(scenario: Any) -> Any:
-    """The Reeds–Shepp optimum (:func:`hga_jax.model.reeds_shepp_graph.shortest`), with the
+    """The Reeds–Shepp optimum (:func:`hga_jax.model.cars.reeds_shepp.graph.shortest`), with the
     free-turn and tight-rope optima beside it; ``seconds``: its own search. Raises
     :class:`ModelMismatchError` if it were longer than the free-turn optimum (every
     free-turn path is a Reeds–Shepp path: a bug)."""
-    from . import reeds_shepp_graph
-    from .exact import ExactResult, no_path
-    from .free_turn_model import solve_free
+    from hga_jax.model.cars.free_turns.model import solve_free
+    from hga_jax.model.cars.reeds_shepp import graph
+    from hga_jax.model.exact import ExactResult, no_path
 
     free = solve_free(scenario)
     t0 = time.perf_counter()
     bound = free.length * (1.0 + 1e-9) + 1e-12
-    length, segs, touched, cusps = reeds_shepp_graph.shortest(scenario, bound)
+    length, segs, touched, cusps = graph.shortest(scenario, bound)
     spent = time.perf_counter() - t0
     details = {"free_turn_length": free.length if free.feasible else math.inf, "cusps": cusps}
     if not math.isfinite(length):

@@ -1,8 +1,8 @@
 """The free-turn car model (``turns = "free"``): the car's shortest path among the obstacles.
 
 A car with minimum turning radius rho may turn on any circle of radius rho in free
-space too, not only on the model circles (:mod:`hga_jax.model.free_turns`). Its
-chromosomes carry a gene per leg (:mod:`hga_jax.model.free_legs`): straight, or over a
+space too, not only on the model circles (:mod:`hga_jax.model.cars.free_turns.turns`). Its
+chromosomes carry a gene per leg (:mod:`hga_jax.model.cars.free_turns.legs`): straight, or over a
 free circle that touches both neighbouring circles. Arcs on free circles are judged
 against every obstacle, so the model needs the full collision test. Every tight-rope
 path is a free-turn path, so the free-turn optimum is never longer; it is reported
@@ -19,7 +19,7 @@ import numpy as np
 
 from hga_jax.errors import ModelMismatchError
 from hga_jax.words import count
-from . import car_model
+from hga_jax.model import car_model
 
 LEGS = car_model.GeneModule(name="legs", weights=(2, 1, 1), crossover="leg_crossover",
                             mutation="leg_mutation", pc="pc_legs", pm="pm_legs",
@@ -58,17 +58,17 @@ class FreeTurns(car_model.CarModel):
 
     def search_arrays(self, scenario: Any, dtype: Any, collision: str,
                       with_legs: bool = False) -> Any:
-        from .free_legs import search_arrays
+        from hga_jax.model.cars.free_turns.legs import search_arrays
 
         return search_arrays(scenario, dtype, with_legs)
 
     def decode_arrays(self, scenario: Any) -> Any:
-        from .free_legs import leg_table
+        from hga_jax.model.cars.free_turns.legs import leg_table
 
         return scenario.arrays(np.float64)._replace(free_legs=leg_table(scenario))
 
     def graph(self, scenario: Any, collision: str) -> Any:
-        from .free_turns import build
+        from hga_jax.model.cars.free_turns.turns import build
 
         return build(scenario)
 
@@ -103,7 +103,7 @@ class FreeTurns(car_model.CarModel):
 
 def tight_rope_line(optimum: Any) -> str:
     """The tight-rope optimum beside a free-turn one: its length and the ratio."""
-    from .no_path import NO_PATH
+    from hga_jax.model.no_path import NO_PATH
 
     tight = optimum.tight_rope_length
     if tight is None or not math.isfinite(tight):
@@ -116,20 +116,20 @@ def tight_rope_line(optimum: Any) -> str:
 
 
 def solve_free(scenario: Any) -> Any:
-    """The free-turn optimum (:func:`hga_jax.model.free_turns.shortest`), with the
+    """The free-turn optimum (:func:`hga_jax.model.cars.free_turns.turns.shortest`), with the
     tight-rope optimum beside it. A path without free arcs that is no shorter than the
     tight-rope optimum is that optimum (with its chromosome). ``seconds``: the free-turn
     search alone. Raises :class:`ModelMismatchError` if the free-turn optimum were longer
     than the tight-rope one (the free graph holds every tight-rope path: a bug)."""
-    from . import free_turns
-    from .exact import ExactResult, no_path, solve_tight_rope
+    from hga_jax.model.cars.free_turns import turns
+    from hga_jax.model.exact import ExactResult, no_path, solve_tight_rope
 
     tight = solve_tight_rope(scenario, "full")
     t0 = time.perf_counter()
     # Only what a path shorter than the tight-rope optimum can use (the bound is exact:
     # every piece of that optimum is kept, so the search never returns longer).
     bound = tight.length * (1.0 + 1e-9) + 1e-12
-    length, segs, touched, free = free_turns.shortest(scenario, bound)
+    length, segs, touched, free = turns.shortest(scenario, bound)
     spent = time.perf_counter() - t0
     if not math.isfinite(length):  # no free-turn path, so no tight-rope one either
         return dataclasses.replace(no_path(scenario, "full", FREE_TURNS.name, spent),

@@ -5,7 +5,7 @@ heading 0, the goal is ``(x, y, phi)`` (``phi`` in radians, counter-clockwise), 
 piece's length is its arc angle (rad) for a turn and its length for a line. A piece
 is a kind, ``L`` (turning left, counter-clockwise relative to the car's heading),
 ``R`` (right) or ``S`` (straight), and a gear, ``+`` (forward) or ``-`` (backward);
-its signed length carries the gear. :mod:`hga_jax.model.reeds_shepp` scales the
+its signed length carries the gear. :mod:`hga_jax.model.cars.reeds_shepp.closed_form` scales the
 results to metres.
 
 **Chain of circle centres.** A car at heading ``h`` has its left turning circle

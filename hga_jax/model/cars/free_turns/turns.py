@@ -5,7 +5,7 @@ start and goal turning circles and the obstacles' model circles. A car with
 minimum turning radius rho may also turn on any circle of radius rho in free space
 (``turns = "free"``); between two close poses the shortest Dubins path is then
 often turn-turn-turn, which no tight rope can express. The free circles an optimum
-needs are those pinned by two contacts (:mod:`hga_jax.model.free_circles`).
+needs are those pinned by two contacts (:mod:`hga_jax.model.cars.free_turns.circles`).
 
 Free circles have no obstacle of their own: their arcs are judged against every
 obstacle and the field. Start and goal circles may also be entered and left in the
@@ -26,12 +26,12 @@ import numpy as np
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
-from . import circle_ids as ids
-from . import tangent_graph
-from .free_circles import circles, reach
-from .graph_search import search, walk
-from .touch import Touch
-from .scenario import Scenario
+from hga_jax.model import circle_ids as ids
+from hga_jax.model import tangent_graph
+from hga_jax.model.cars.free_turns.circles import circles, reach
+from hga_jax.model.graph_search import search, walk
+from hga_jax.model.scenario import Scenario
+from hga_jax.model.touch import Touch
 
 TOL = g.tolerances(np.float64)
 
@@ -81,7 +81,7 @@ def build(sc: Scenario, bound: float = math.inf):
     """The free-turn tangent graph of ``sc`` (an :class:`hga_jax.model.graph_search.Graph`, by
     :func:`graph`) over every circle of :func:`circles` and every feasible tangent
     between them. With a finite ``bound`` (m) it leaves out the circles and tangents
-    that no path shorter than ``bound`` can use (:func:`hga_jax.model.free_circles.circles`, :func:`_tangents`)."""
+    that no path shorter than ``bound`` can use (:func:`hga_jax.model.cars.free_turns.circles.circles`, :func:`_tangents`)."""
     circ = circles(sc, bound)
     return graph(sc, circ, _tangents(sc, circ, bound))
 

@@ -6,7 +6,7 @@ is one of 48 *words* in nine families: CSC, C|C|C, C|CC, CC|C, CCu|CuC, C|CuCu|C
 C|C(pi/2)SC, CSC(pi/2)|C and C|C(pi/2)SC(pi/2)|C (``C`` an arc of radius ``rho``,
 ``S`` a line, ``|`` a cusp, where the car stops and changes gear; ``Cu`` two arcs of
 equal length, ``C(pi/2)`` a quarter turn). The formulas of the words are in
-:mod:`hga_jax.model.reeds_shepp_words`; this module moves the problem into the
+:mod:`hga_jax.model.cars.reeds_shepp.words`; this module moves the problem into the
 start's frame, keeps the shortest word and turns words into poses and segments.
 
 Conventions: metres and radians; a pose is ``(x, y, heading)`` with the heading
@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from typing import Any, NamedTuple
 
-from .reeds_shepp_words import solutions
+from hga_jax.model.cars.reeds_shepp.words import solutions
 
 Pose = tuple[float, float, float]
 """``(x, y, heading)``: metres, metres, radians counter-clockwise from +x."""

@@ -1,6 +1,6 @@
 """The best path of the leg-gene chromosome space, found exactly.
 
-A free-turn chromosome (:mod:`hga_jax.model.free_legs`) expresses the tight-rope paths
+A free-turn chromosome (:mod:`hga_jax.model.cars.free_turns.legs`) expresses the tight-rope paths
 and, leg by leg, free circles that touch both neighbouring circles. :func:`shortest`
 searches that space's tangent graph (the scenario's clear tangents plus the clear free
 legs, each obstacle touched at most once, as a chromosome does), so that the share of
@@ -13,20 +13,20 @@ import math
 
 import numpy as np
 
-from . import circle_ids as ids
-from . import free_turns
-from .free_legs import table
-from .graph_search import search, walk
-from .touch import Touch
-from .scenario import Scenario
+from hga_jax.model import circle_ids as ids
+from hga_jax.model.cars.free_turns import turns
+from hga_jax.model.cars.free_turns.legs import table
+from hga_jax.model.graph_search import search, walk
+from hga_jax.model.scenario import Scenario
+from hga_jax.model.touch import Touch
 
 
 def graph(sc: Scenario):
     """The tangent graph of the leg space: the scenario's clear tangents, then the clear
     free legs (each a piece standing for its free arc), the poses' circles as rings, each
     piece counted as entering its target's obstacle. Returns ``(graph, tangents, legs)``:
-    the number of tangent pieces and the :class:`~hga_jax.model.free_legs.FreeLegs`."""
-    from .exact import _tangents
+    the number of tangent pieces and the :class:`~hga_jax.model.cars.free_turns.legs.FreeLegs`."""
+    from hga_jax.model.exact import _tangents
 
     sa = sc.arrays(np.float64)
     circ = sc.circles(np.float64)
@@ -37,12 +37,12 @@ def graph(sc: Scenario):
     pieces = (np.r_[S[ok], legs.S], np.r_[T[ok], legs.T], np.r_[t.p1x[ok], legs.p1x],
               np.r_[t.p1y[ok], legs.p1y], np.r_[t.p2x[ok], legs.p2x], np.r_[t.p2y[ok], legs.p2y],
               np.r_[t.length[ok], rho * legs.sweep])
-    return free_turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]]), e, legs
+    return turns.graph(sc, circ, pieces, enter=circ[4][pieces[1]]), e, legs
 
 
 def shortest(sc: Scenario):
     """The best path a chromosome with free legs expresses: ``(length, segments, touched,
-    free_arcs)`` as :func:`hga_jax.model.free_turns.shortest` (inf and empty lists when
+    free_arcs)`` as :func:`hga_jax.model.cars.free_turns.turns.shortest` (inf and empty lists when
     none is feasible or the label budget of the search runs out)."""
     gr, e, legs = graph(sc)
     circ, rho = gr.circles, float(sc.min_turn_radius)

@@ -8,11 +8,11 @@ There are two such circles, one on each side of the line between the centres
 (``side`` 0 on the left of ``a -> c``, 1 on the right). A chromosome with a gene per
 leg (straight, or free on side 0 or 1) expresses the turn-turn-turn Dubins words and
 every free loop that touches its neighbours, but not a free circle held by an
-obstacle or a wall that it does not turn on (:mod:`hga_jax.model.free_turns`).
+obstacle or a wall that it does not turn on (:mod:`hga_jax.model.cars.free_turns.turns`).
 
 :func:`table` lists every feasible free leg of a scenario; :func:`leg_table` is what
 the GA's decoder and turn table read, and :func:`search_arrays` the scenario's device
-arrays with both (:mod:`hga_jax.model.leg_space` finds the best path of this chromosome
+arrays with both (:mod:`hga_jax.model.cars.free_turns.leg_space` finds the best path of this chromosome
 space exactly). Host code (numpy, float64 unless a dtype is given); metres and radians.
 """
 from __future__ import annotations
@@ -26,11 +26,11 @@ from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
 
 from hga_jax.model import legs as leg_info
-from hga_jax.model import time_windows
 from hga_jax.model import turns as turn_tables
 
-from . import free_circles
-from .scenario import Scenario, ScenarioArrays
+from hga_jax.model.cars.free_turns import circles
+from hga_jax.model.in_time import windows
+from hga_jax.model.scenario import Scenario, ScenarioArrays
 
 TOL = g.tolerances(np.float64)
 
@@ -78,7 +78,7 @@ class LegTable(NamedTuple):
     arc's sweep (rad; 0 for tangents). fsign: the free circle's sense (``+1`` CW, ``-1``
     CCW; 0 for a tangent): under free turns it turns against ``a``.
     cusps: a reversing car's cusps of each entry (bit 0: at its first contact, bit 1:
-    at its last; :mod:`hga_jax.model.reeds_shepp_legs`); None for a car that only
+    at its last; :mod:`hga_jax.model.cars.reeds_shepp.legs`); None for a car that only
     drives forward. q1x, q1y, q2x, q2y: a reversing car's legs run straight from P1 to
     Q1, over the free circle to Q2 and straight to P2 (quarter turns); None otherwise.
     """
@@ -133,7 +133,7 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
             return None
         if not sc.has_motion:
             return np.asarray(built.entries, dtype)
-        timed = time_windows.for_scenario(sc, built.entries, dtype, leg_table(sc))
+        timed = windows.for_scenario(sc, built.entries, dtype, leg_table(sc))
         return None if timed is None else np.asarray(timed, dtype)
 
     sa = sa._replace(free_legs=leg_table(sc, dtype),
@@ -234,7 +234,7 @@ def between(sc: Scenario, circ, a: np.ndarray, b: np.ndarray, sense: float) -> F
     ``a`` turns (-1: against it, a smooth change of circle; +1: the same way, a cusp)."""
     x, y, r, sg, own = circ
     rho = float(sc.min_turn_radius)
-    fx, fy, k = free_circles.pair_centres(x[a], y[a], r[a] + rho, x[b], y[b], r[b] + rho)
+    fx, fy, k = circles.pair_centres(x[a], y[a], r[a] + rho, x[b], y[b], r[b] + rho)
     side = (np.arange(fx.size) >= fx.size // 2).astype(np.int32)  # + solution first: left
     a, b = a[k], b[k]
     fs = sense * sg[a]

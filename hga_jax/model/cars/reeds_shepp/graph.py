@@ -14,13 +14,13 @@ way. In terms of the curve it draws, the reversing car therefore
   travel are opposite (one sense touching from outside, opposite senses one inside
   the other): a cusp, a piece of length 0 at the contact point;
 - turns on free circles of radius rho held by two contacts, in either sense, since
-  a contact may be a cusp (:func:`hga_jax.model.free_circles.free_circles`, ``both``),
+  a contact may be a cusp (:func:`hga_jax.model.cars.free_turns.circles.free_circles`, ``both``),
   and on *quarter-turn* circles (:func:`quarter_turns`): a free circle met at a cusp
   on one circle, turned a quarter of a turn and left along a tangent to another
   circle, or the same driven the other way (Reeds and Shepp's C|C(pi/2)SC words,
   whose middle arc is a quarter turn at an optimum);
 - and drives every Reeds–Shepp word from the start pose to the goal pose that is
-  clear of the obstacles and the field (:mod:`hga_jax.model.reeds_shepp`), a piece of
+  clear of the obstacles and the field (:mod:`hga_jax.model.cars.reeds_shepp.closed_form`), a piece of
   its own, so that with no obstacles the optimum is the closed form.
 
 Free circles are held by the scenario's circles (pose circles, model circles, walls);
@@ -42,10 +42,12 @@ import numpy as np
 from hga_jax.model import circle_ids as ids
 from hga_jax.model import collision as col
 from hga_jax.model import geometry as g
-from . import free_circles, free_turns, tangent_graph
-from .graph_search import Graph, search
-from .scenario import Scenario
-from .touch import Touch
+from hga_jax.model import tangent_graph
+from hga_jax.model.cars.free_turns import circles as free_circles
+from hga_jax.model.cars.free_turns import turns as free_turns
+from hga_jax.model.graph_search import Graph, search
+from hga_jax.model.scenario import Scenario
+from hga_jax.model.touch import Touch
 
 TOL = g.tolerances(np.float64)
 
@@ -247,15 +249,15 @@ def _words(sc: Scenario, back: int, bound: float):
     left circle in the sense of the word's first gear (circle 0 forward, ``back``
     backward) to the goal's left circle in the sense of its last (2 or ``back + 2``), and
     their segments."""
-    from . import reeds_shepp
+    from hga_jax.model.cars.reeds_shepp import closed_form
 
     rho = float(sc.min_turn_radius)
     (sx, sy, _), (gx, gy, _) = sc.start, sc.goal
     kept, segs, first, last = [], [], [], []
-    for word in reeds_shepp.candidates(sc.start, sc.goal, rho):
+    for word in closed_form.candidates(sc.start, sc.goal, rho):
         if word.length > bound:
             continue
-        seg = reeds_shepp.segments(sc.start, word.pieces, rho)
+        seg = closed_form.segments(sc.start, word.pieces, rho)
         if seg and clear(sc, seg):
             kept.append(word.length)
             segs.append(seg)

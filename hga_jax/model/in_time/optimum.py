@@ -4,7 +4,7 @@ Among robots that move (docs/model.md, "Moving robots"), every path feasible in 
 feasible among the robots that stand alone, so the optimum of
 :meth:`~hga_jax.model.scenario.Scenario.still_scene` (any car model's ``solve``) is a
 lower bound on the optimum; when its path keeps clear of every moving robot in time
-(:func:`hga_jax.model.moving.segment_hits`, float64) it *is* the optimum, and the result
+(:func:`hga_jax.model.in_time.clearance.segment_hits`, float64) it *is* the optimum, and the result
 says so (``optimal`` True). Otherwise the result carries the bound and the shortest path
 this module knows that is feasible in time (``optimal`` False), found by solving static
 scenes that freeze the moving robots where they get in the way:
@@ -30,9 +30,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import moving
-from .path import Path, chromosome, evaluate_path
-from .touch import Touch
+from hga_jax.model.in_time import clearance
+from hga_jax.model.path import Path, chromosome, evaluate_path
+from hga_jax.model.touch import Touch
 
 ROUNDS = 8
 """Rounds of conflict freezing (each adds the robots met in time and solves again)."""
@@ -56,7 +56,7 @@ def solve(scenario: Any, collision: str, static_solve: Callable[[Any], Any]) -> 
         return dataclasses.replace(bound, optimal=True, lower_bound=None,
                                    seconds=time.perf_counter() - t0)
     path = _on_scenario(scenario, still, bound)
-    if not moving.segment_hits(scenario, bound.segments):
+    if not clearance.segment_hits(scenario, bound.segments):
         return dataclasses.replace(
             bound, length=bound.length if path is None else path.length, path=path,
             best_expressible=path, expressible=path is not None,
@@ -70,7 +70,7 @@ def solve(scenario: Any, collision: str, static_solve: Callable[[Any], Any]) -> 
     for name, result in _candidates(scenario, still, bound, static_solve):
         if result is None or not result.feasible:
             continue
-        if moving.segment_hits(scenario, result.segments):
+        if clearance.segment_hits(scenario, result.segments):
             continue
         if best is None or result.length < best.length:
             best, how = result, name
@@ -114,7 +114,7 @@ def _candidates(scenario: Any, still: Any, bound: Any, static_solve: Callable[[A
     copies: list[tuple[np.ndarray, float]] = []
     segments = bound.segments
     for _ in range(ROUNDS):
-        met = [a for a in moving.closest_approach(scenario, segments, spacing=5e-3)
+        met = [a for a in clearance.closest_approach(scenario, segments, spacing=5e-3)
                if a.clearance < 1e-6]
         new = [(np.asarray(a.centre), scenario.radii[a.obstacle]) for a in met]
         if not new:
@@ -215,7 +215,7 @@ def _numbers(scenario: Any, scene: Any) -> dict[int, int | None]:
     for k in range(idx.size, scene.n):
         seg = {"type": "arc", "center": list(np.asarray(scene.centres[k], float)),
                "radius": float(scene.model_radii[k])}
-        mover = moving.moments_wrapped(scenario, [seg])
+        mover = clearance.moments_wrapped(scenario, [seg])
         out[k] = next(iter(mover)) if mover else None
     return out
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from . import car_model
+from hga_jax.model import car_model
 
 
 class TightRope(car_model.CarModel):
@@ -27,12 +27,12 @@ class TightRope(car_model.CarModel):
         return scenario.search_arrays(dtype, collision, with_legs)
 
     def graph(self, scenario: Any, collision: str) -> Any:
-        from .exact import tight_rope_graph
+        from hga_jax.model.exact import tight_rope_graph
 
         return tight_rope_graph(scenario, collision)
 
     def solve(self, scenario: Any, collision: str) -> Any:
-        from .exact import solve_tight_rope
+        from hga_jax.model.exact import solve_tight_rope
 
         return solve_tight_rope(scenario, collision)
 

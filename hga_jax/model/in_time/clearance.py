@@ -42,7 +42,7 @@ from typing import Any, NamedTuple, Sequence
 
 import numpy as np
 
-from .geometry import tolerances, xp_of
+from hga_jax.model.geometry import tolerances, xp_of
 
 SUBARCS = 8
 """Sub-arcs per arc in the search's float32 fitness: a chord error of at most

@@ -1,6 +1,6 @@
 """The free circles that a car's shortest path may turn on, pinned by two contacts.
 
-Under free turns (:mod:`hga_jax.model.free_turns`) a path may turn on any circle of
+Under free turns (:mod:`hga_jax.model.cars.free_turns.turns`) a path may turn on any circle of
 radius rho in free space. A free arc with a tangent or a change of circle on each
 side is a rope over a pulley: while its circle can move, moving it shortens the
 path. So at an optimum every free circle is pinned by two contacts, and those are
@@ -24,7 +24,7 @@ import numpy as np
 from hga_jax.model import circle_ids as ids
 from hga_jax.model import geometry as g
 
-from .scenario import Scenario
+from hga_jax.model.scenario import Scenario
 
 TOL = g.tolerances(np.float64)
 

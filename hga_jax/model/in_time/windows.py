@@ -10,13 +10,13 @@ start times at which it collides form a set known before any chromosome is seen:
   the relative displacement ``E = (P1 - P0) - V h``: the robot's track ``O + V T`` meets
   that segment's capsule, which is convex, so the start times form **one open interval**
   (:func:`line_window`, closed form: the track against the two end discs and the slab);
-- an arc is judged as :mod:`hga_jax.model.moving` judges it: ``K`` sub-arcs, each its chord
+- an arc is judged as :mod:`hga_jax.model.in_time.clearance` judges it: ``K`` sub-arcs, each its chord
   with the reach widened by the chord error ``r (theta / K)^2 / 8``; the union of the
   chords' intervals, shifted to the arc's start, is closed to at most :data:`ARC_WINDOWS`
   intervals by filling its smallest gaps (:func:`merge`; sound: it only ever adds start
   times that collide);
 - an arc round a moving robot's own circle is judged by
-  :func:`hga_jax.model.moving.own_reach`'s bound, whose superlevel set is one interval of
+  :func:`hga_jax.model.in_time.clearance.own_reach`'s bound, whose superlevel set is one interval of
   the time since the circle's moment per sub-arc and sign (:func:`own_windows`).
 
 :func:`build` gives every turn ``(a, b, c)`` of :mod:`hga_jax.model.turns` these windows for
@@ -88,7 +88,7 @@ def line_window(x0, y0, x1, y1, h, ox, oy, vx, vy, reach):
     """``(lo, hi)``: the open interval of start times ``T`` at which a point driven at
     constant speed from ``P0`` (time ``T``) to ``P1`` (time ``T + h``) comes closer than
     ``reach`` to a centre at ``O + t V``; ``lo >= hi`` when there is none. Broadcasting,
-    float64. The same test as :func:`hga_jax.model.moving.chord_reach` ``< reach^2``."""
+    float64. The same test as :func:`hga_jax.model.in_time.clearance.chord_reach` ``< reach^2``."""
     wx, wy = ox - x0, oy - y0  # the robot relative to P0 at T = 0: Q(T) = W + V T
     ex, ey = (x1 - x0) - vx * h, (y1 - y0) - vy * h  # the relative displacement
     vv = vx * vx + vy * vy
@@ -150,7 +150,7 @@ def merge(lo, hi, keep: int = ARC_WINDOWS):
 def own_windows(mx, my, vx, vy, r, h, i, placed, swp, k, tol):
     """``(lo, hi)`` of shape ``(2,) + shape``: the start times of an arc on a moving robot's
     own circle at which sub-arc ``i`` of ``k`` (time ``h`` each, unit middle direction
-    ``(mx, my)``) comes too close by :func:`hga_jax.model.moving.own_reach`'s bound, one
+    ``(mx, my)``) comes too close by :func:`hga_jax.model.in_time.clearance.own_reach`'s bound, one
     interval for the times after the circle's moment ``placed`` and one before."""
     speed2 = vx * vx + vy * vy
     s2 = np.where(speed2 > 0, speed2, 1.0)
@@ -284,8 +284,8 @@ def build(tb: Any, start, goal, motion: Any, obstacle_movers, subarcs: int, tol:
     ``tb``: the float64 tangent table; ``motion``: the float64
     :class:`~hga_jax.model.scenario.Motion`; ``obstacle_movers``: (n,) the moving robot of
     each obstacle (-1 for one that stands); ``subarcs`` and ``tol``: the decoder's
-    (:func:`hga_jax.model.moving.subarcs_of`, the length tolerance of its dtype); ``legs``:
-    a float64 :class:`~hga_jax.model.free_legs.LegTable` (chromosomes with leg genes) or
+    (:func:`hga_jax.model.in_time.clearance.subarcs_of`, the length tolerance of its dtype); ``legs``:
+    a float64 :class:`~hga_jax.model.cars.free_turns.legs.LegTable` (chromosomes with leg genes) or
     None (the tight rope); ``arrival``: :func:`soonest` (windows that end before a path can
     arrive are dropped) or None (the straight distance from the start bounds it)."""
     f8 = np.float64
@@ -420,7 +420,7 @@ def compact(windows):
 def for_scenario(sc: Any, entries, dtype: Any, legs: Any = None, tangents: Any = None):
     """:func:`table` of a scenario's static turn table ``entries`` for the search in
     ``dtype`` (the decoder's sub-arcs and tolerance of that dtype)."""
-    from .moving import subarcs_of
+    from hga_jax.model.in_time.clearance import subarcs_of
 
     return table(entries, sc.arrays(np.float64), sc.n, subarcs_of(dtype),
                  g.tolerances(dtype).length, legs, tangents)
