@@ -203,3 +203,61 @@ def test_bad_episode_settings_are_one_line():
         episode.EpisodeSettings(motion="bounce")
     with pytest.raises(ValueError, match="dt: must be a number > 0"):
         episode.EpisodeSettings(dt=0.0)
+
+
+def test_an_animation_of_an_episode(tmp_path):
+    """Half a second (30 frames): one image every 6 frames and the last, a GIF that opens."""
+    from PIL import Image
+
+    from hga_jax.host.plots.episode_animation import animate
+
+    sc = _scene(CROSSING)
+    p = planners.make("hga", episode.car_of(sc), BOUND, seed=0, generations=3)
+    ep = episode.run(sc, p, episode.EpisodeSettings(time_limit=0.5), keep_plans=True)
+    assert len(ep.plans) == len(ep.frames) == 30
+    assert animate(ep, ep.plans, str(tmp_path / "e.gif")) == 6
+    with Image.open(tmp_path / "e.gif") as im:
+        assert im.n_frames >= 2 and im.size[0] > 100
+
+
+SCENE = """name = "crossing"
+[robot]
+radius = 0.09
+min_turn_radius = 0.2
+speed = 1.0
+[start]
+x = 0.0
+y = 0.0
+heading_deg = 0.0
+[goal]
+x = 3.0
+y = 0.0
+heading_deg = 0.0
+[[obstacles]]
+x = 1.5
+y = -1.4
+vx = 0.0
+vy = 1.0
+"""
+
+
+def test_the_episode_command(tmp_path, capsys):
+    """It writes episode.json (reached, no contact) and, asked, episode.gif; a second run
+    into the same folder is refused without --force; a bad flag is one line, exit 2."""
+    from hga_jax.host.cli import main
+
+    scene = tmp_path / "crossing.toml"
+    scene.write_text(SCENE)
+    out = tmp_path / "ep"
+    args = ["episode", str(scene), "--generations", "3", "--bound", str(BOUND), "--out", str(out),
+            "--time-limit", "6", "--no-cache"]
+    assert main(args + ["--animate"]) == 0
+    d = json.loads((out / "episode.json").read_text())
+    assert d["outcome"] == "reached" and d["contact"] is None and d["planner"] == "hga"
+    assert (out / "episode.gif").stat().st_size > 1000
+    assert "hga: reached at" in capsys.readouterr().out
+    assert main(args) == 2
+    assert "already holds an episode.json" in capsys.readouterr().err
+    assert main(["episode", str(scene), "--dt", "-1", "--out", str(tmp_path / "x")]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "hga-jax: error: command line: --dt: must be a number > 0, got -1.0")

@@ -36,6 +36,9 @@ def add_parser(sub, formatter=argparse.HelpFormatter) -> None:
                    help="generations per frame (hga, hga-cold)")
     p.add_argument("--bound", type=int, help="robots the planner is compiled for (default: "
                    "the scene's count)")
+    p.add_argument("--animate", action="store_true", help="also write DIR/episode.gif: the "
+                   "robots and their predicted tracks, the car's trail and its plan, every "
+                   "sixth frame")
     p.add_argument("--force", action="store_true", help="replace an existing episode.json")
     p.add_argument("--no-cache", action="store_true", help="do not keep compiled programs "
                    "on disk")
@@ -67,9 +70,10 @@ def run(args: argparse.Namespace) -> int:
         os.path.basename(args.scenario))[0] + "-episode")
     writable_folder(out)
     target = os.path.join(out, "episode.json")
-    if os.path.exists(target) and not args.force:
-        raise ConfigError(f"{out}: output folder: already holds an episode.json; use --force "
-                          "to replace it, or another folder")
+    for name in ("episode.json", "episode.gif"):
+        if os.path.exists(os.path.join(out, name)) and not args.force:
+            raise ConfigError(f"{out}: output folder: already holds an {name}; use --force "
+                              "to replace it, or another folder")
     if not args.no_cache:
         from hga_jax.compiled import enable_compilation_cache
 
@@ -79,8 +83,20 @@ def run(args: argparse.Namespace) -> int:
     car = episodes.car_of(scenario)
     planner = planners.make(args.planner, car, episodes.bound_of(scenario, args.bound),
                             seed=args.seed, generations=args.generations)
-    ep = episodes.run(scenario, planner, settings, seed=args.seed)
+    ep = episodes.run(scenario, planner, settings, seed=args.seed, keep_plans=args.animate)
     write_json(target, ep.to_dict())
+    written = [target]
+    if args.animate:
+        from hga_jax.host.output import write_file
+        from hga_jax.host.plots.episode_animation import animate
+
+        gif = os.path.join(out, "episode.gif")
+        box = None if scenario.field is None else (scenario.field.xmin, scenario.field.xmax,
+                                                   scenario.field.ymin, scenario.field.ymax)
+        tmp = gif + ".part.gif"
+        animate(ep, ep.plans, tmp, box)
+        os.replace(tmp, gif)
+        written.append(gif)
     print(episodes.summary(ep))
-    print(f"wrote {target}")
+    print("wrote " + ", ".join(written))
     return 0

@@ -82,6 +82,7 @@ class Episode:
     car_name: str
     goal: tuple
     frames: list = field(default_factory=list)
+    plans: list = field(default_factory=list)  # each frame's plan (kept with keep_plans)
     outcome: str = "timeout"
     time: float = 0.0
     contact: dict | None = None
@@ -145,8 +146,9 @@ def _straight(pose, length: float) -> list:
 
 
 def run(scenario: Any, planner: Any, settings: EpisodeSettings = EpisodeSettings(),
-        seed: int = 0, progress: Any = None) -> Episode:
-    """Play one episode of ``scenario`` with ``planner`` (module doc)."""
+        seed: int = 0, progress: Any = None, keep_plans: bool = False) -> Episode:
+    """Play one episode of ``scenario`` with ``planner`` (module doc); ``keep_plans``: keep
+    the plan the car drives in each frame (``Episode.plans``, for an animation)."""
     s = settings
     car = car_of(scenario)
     rng = np.random.default_rng([seed, 58])
@@ -173,6 +175,8 @@ def run(scenario: Any, planner: Any, settings: EpisodeSettings = EpisodeSettings
             plan = got.segments
         if not plan:
             plan = _straight(pose, step * 2)
+        if keep_plans:
+            ep.plans.append(plan)
         ep.frames.append({"t": t, "ego": [pose[0], pose[1], pose[2], 1],
                           "obstacles": np.concatenate([pos, vel, radii[:, None]], axis=1).tolist(),
                           "plan_ms": got.plan_ms, "status": got.status})
