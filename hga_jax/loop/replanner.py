@@ -99,10 +99,11 @@ def _rescored(sa, core, settings: GASettings, key, immigrants: int):
     n = sa.centres.shape[0]
     scored = ga._evaluated(sa, pop.perm, pop.labels, pop.legs, settings)
     if immigrants:
-        perm, labels, legs = _fresh(_draw(key, n, settings), n, settings, sa)
-        fresh = ga._evaluated(sa, perm, labels, legs, settings)
+        chrom = _fresh(_draw(key, n, settings), n, settings, sa)
+        perm, labels, legs = (None if c is None else c[:immigrants] for c in chrom)
+        fresh = ga._evaluated(sa, perm, labels, legs, settings)  # only those that come in
         worst = ga.top_indices(-scored.fitness, immigrants)
-        scored = jax.tree.map(lambda a, b: a.at[worst].set(b[:immigrants]), scored, fresh)
+        scored = jax.tree.map(lambda a, b: a.at[worst].set(b), scored, fresh)
     i = jnp.argmax(scored.fitness)
     best = Best(scored.perm[i], positional(scored.perm[i], scored.labels[i], settings),
                 scored.fitness[i], scored.length[i], scored.violations[i], core.generation,
