@@ -117,7 +117,8 @@ def arrays(obs: Observation, car: Car) -> ScenarioArrays:
     bounds = jnp.asarray(np.asarray(car.bounds, np.float64), dt)
     circles = tangents.oriented_circles(obs.pose, obs.goal, circles_at, big_r, rho)
     none = jnp.zeros((n,), dt)  # no robot blocks by the static rules: all are judged in time
-    table = tangents.table(circles, circles_at, none, bounds)
+    # (so the table tests its tangents against none: the field and missing tangents only)
+    table = tangents.table(circles, circles_at[:0], none[:0], bounds)
     motion = Motion(centres=centres, velocities=velocities, radii=big_r,
                     index=jnp.where(present, jnp.arange(n, dtype=jnp.int32), n),
                     speed=speed, placed=placed, wrap_penalty=jnp.asarray(0, jnp.int32))
