@@ -13,7 +13,7 @@ Usage (from the repository root)::
 
     python3 experiments/episodes_compare.py [--scenes 10] [--robots 9]
         [--families crossing random_moving] [--motions constant random]
-        [--planners hga hga-cold exact]
+        [--planners hga hga-cold exact sampler]
 """
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ def main(argv=None) -> int:
     ap.add_argument("--robots", type=int, default=9)
     ap.add_argument("--families", nargs="+", default=["crossing", "random_moving"])
     ap.add_argument("--motions", nargs="+", default=["constant", "random"])
-    ap.add_argument("--planners", nargs="+", default=["hga", "hga-cold", "exact"])
+    ap.add_argument("--planners", nargs="+", default=["hga", "hga-cold", "exact", "sampler"])
     ap.add_argument("--generations", type=int, default=5)
     args = ap.parse_args(argv)
     print(f"calibration: {calibration() * 1e3:.1f} ms")

@@ -261,3 +261,17 @@ def test_the_episode_command(tmp_path, capsys):
     assert main(["episode", str(scene), "--dt", "-1", "--out", str(tmp_path / "x")]) == 2
     assert capsys.readouterr().err.strip() == (
         "hga-jax: error: command line: --dt: must be a number > 0, got -1.0")
+
+
+def test_the_sampler_takes_the_direct_path_when_it_is_clear_and_repeats_its_seed():
+    """No robot near: the straight line (3 m), found among the direct paths; a seed gives
+    the same plans twice."""
+    sc = _scene([(1.5, 2.0, 0.0, 0.0, 0.09)])
+    car = episode.car_of(sc)
+    p = planners.make("sampler", car, BOUND, seed=3)
+    view = planners.View((0.0, 0.0, 0.0), (3.0, 0.0, 0.0), np.array([[1.5, 2.0, 0.0, 0.0, 0.09]]))
+    got = p.plan(view)
+    assert got.status == "clear" and got.length == pytest.approx(3.0, abs=1e-5)
+    a = _episode("sampler", limit=1.0, seed=2)
+    b = _episode("sampler", limit=1.0, seed=2)
+    assert [f["ego"] for f in a.frames] == [f["ego"] for f in b.frames]

@@ -21,7 +21,9 @@ def add_parser(sub, formatter=argparse.HelpFormatter) -> None:
     p.add_argument("scenario", help="scenario TOML file (robots may have vx, vy)")
     p.add_argument("--planner", default="hga", choices=PLANNERS,
                    help="hga: the warm-started HGA in time; hga-cold: a fresh population each "
-                   "frame; exact: the exact optimum among the robots frozen at each frame")
+                   "frame; exact: the exact optimum among the robots frozen at each frame; "
+                   "sampler: the direct paths, last frame's winner and 100 random "
+                   "chromosomes judged in time each frame")
     p.add_argument("--motion", default="constant", choices=episodes.MOTIONS,
                    help="how the robots move: straight on, reflected at the field's edges; "
                    "random accelerations; steering toward the car")
