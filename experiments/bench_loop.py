@@ -37,6 +37,7 @@ def robots(k: int, t: float) -> np.ndarray:
 
 def main(argv=None) -> int:
     from hga_jax.host.poses import at
+    from hga_jax.model.path import segments_length
     from hga_jax.loop import Car, Replanner, observation
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -61,9 +62,7 @@ def main(argv=None) -> int:
             plans = rp.step(batch)
             times.append(plans[0].plan_ms)
             for c, p in enumerate(plans):
-                if p.segments and sum(s["radius"] * abs(s["sweep"]) if s["type"] == "arc"
-                                      else np.hypot(*np.subtract(s["end"], s["start"]))
-                                      for s in p.segments) > 1.0 / 60.0:
+                if p.segments and segments_length(p.segments) > 1.0 / 60.0:
                     x, y, h = at(p.segments, [1.0 / 60.0])[0][:3]
                     poses[c] = (x, y, h)
                 else:  # arrived: start over

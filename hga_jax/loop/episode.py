@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from hga_jax.host.poses import at as poses_at
+from hga_jax.model.path import segments_length
 from . import frame as frames
 from . import planners as planner_mod
 
@@ -180,7 +181,7 @@ def run(scenario: Any, planner: Any, settings: EpisodeSettings = EpisodeSettings
         ep.frames.append({"t": t, "ego": [pose[0], pose[1], pose[2], 1],
                           "obstacles": np.concatenate([pos, vel, radii[:, None]], axis=1).tolist(),
                           "plan_ms": got.plan_ms, "status": got.status})
-        total = sum(_length(seg) for seg in plan)
+        total = segments_length(plan)
         driven = min(step, total)
         cuts = max(8, int(math.ceil(driven / CONTACT_SPACING)))
         u = np.linspace(0.0, driven, cuts + 1)
@@ -212,9 +213,7 @@ def run(scenario: Any, planner: Any, settings: EpisodeSettings = EpisodeSettings
 
 
 def _length(seg: dict) -> float:
-    if seg["type"] == "arc":
-        return float(seg["radius"]) * abs(float(seg["sweep"]))
-    return math.dist(seg["start"], seg["end"])
+    return segments_length([seg])
 
 
 def _rest(plan: list, driven: float) -> list:

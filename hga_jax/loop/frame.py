@@ -22,6 +22,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from hga_jax.model import tangents
+from hga_jax.model.geometry import xp_of
 from hga_jax.model.scenario import Motion, ScenarioArrays
 
 FAR = 1.0e4
@@ -84,6 +85,12 @@ def observation(pose, goal, robots, bound: int, dtype: Any = np.float32) -> Obse
                        np.asarray(radii, dtype), present)
 
 
+def model_radii(radii, car: Car):
+    """The robots' model radii in the loop: ``max(rho, r_i + r + margin)`` (numpy or jax)."""
+    xp = xp_of(radii)
+    return xp.maximum(car.rho, radii + car.radius + car.margin)
+
+
 def placement(pose, centres, velocities, speed):
     """(N,) the moment each robot's circle takes: when the car, driving straight at
     ``speed`` from ``pose``, could first reach the robot's centre (a few fixed-point steps
@@ -108,8 +115,7 @@ def arrays(obs: Observation, car: Car) -> ScenarioArrays:
     speed = jnp.asarray(car.speed, dt)
     present = jnp.asarray(obs.present, bool)
     far = jnp.stack([FAR + 10.0 * jnp.arange(n, dtype=dt), jnp.full((n,), FAR, dt)], axis=1)
-    big_r = jnp.where(present, jnp.maximum(rho, obs.radii + car.radius + car.margin),
-                      0.0).astype(dt)
+    big_r = jnp.where(present, model_radii(jnp.asarray(obs.radii), car), 0.0).astype(dt)
     centres = jnp.where(present[:, None], obs.centres, far)
     velocities = jnp.where(present[:, None], obs.velocities, 0.0)
     placed = placement(obs.pose, centres, velocities, speed)

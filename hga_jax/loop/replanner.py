@@ -232,7 +232,7 @@ def _status(obs, k: int, car: frames.Car, violations: int) -> str:
     ``"clear"`` or ``"collides"`` by the plan's violations."""
     there = np.asarray(obs.present[k], bool)
     d = np.hypot(*(np.asarray(obs.centres[k], float) - np.asarray(obs.pose[k][:2], float)).T)
-    big_r = np.maximum(car.rho, np.asarray(obs.radii[k], float) + car.radius + car.margin)
+    big_r = frames.model_radii(np.asarray(obs.radii[k], float), car)
     inside = np.flatnonzero(there & (d < big_r))
     if inside.size:
         return f"start inside robot {int(inside[0])}"

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from hga_jax.host.poses import at as poses_at
+from hga_jax.model.path import segments_length
 
 PREDICT = 1.0
 """Seconds of each robot's predicted track drawn ahead of it."""
@@ -24,8 +25,7 @@ PREDICT = 1.0
 def _plan_xy(segments, spacing: float = 0.02):
     if not segments:
         return np.zeros(0), np.zeros(0)
-    total = sum(float(s["radius"]) * abs(float(s["sweep"])) if s["type"] == "arc"
-                else math.dist(s["start"], s["end"]) for s in segments)
+    total = segments_length(segments)
     u = np.linspace(0.0, total, max(2, int(total / spacing) + 1))
     p = poses_at(segments, u)
     return p[:, 0], p[:, 1]
