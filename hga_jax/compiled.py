@@ -4,11 +4,19 @@ A program here is ``jax.jit(fn).lower(*args).compile()``: what a GA batch or the
 float64 decoder runs. :func:`program` returns the one for a key, from (in order)
 
 1. this process's recent programs (a study reuses them across scenes of one size);
-2. the program folder (:func:`use_folder`; the command line sets it), where a
-   compiled program is stored as JAX's serialised executable; loading one skips
-   both tracing and XLA's compile, which JAX's own compilation cache does not
-   (it skips only the compile: tracing a GA generation costs 1-2 s);
+2. the program folder (:func:`enable_compilation_cache`), where a compiled program
+   is stored as JAX's serialised executable; loading one skips both tracing and
+   XLA's compile, which JAX's own compilation cache does not (it skips only the
+   compile: tracing a GA generation costs 1-2 s);
 3. a fresh compile, then stored there.
+
+The folder is on by default: where nothing chose (neither
+:func:`enable_compilation_cache` nor :func:`use_folder` was called), the first program
+a process asks for turns it on, in the folder ``enable_compilation_cache()`` picks
+(``$HGA_JAX_CACHE_DIR``, else ``~/.cache/hga-jax/programs``), unless
+``HGA_JAX_CACHE_DIR=off`` or JAX's own compilation cache was configured (a
+``jax_compilation_cache_dir``, or ``jax_enable_compilation_cache`` turned off): then
+programs are kept in memory only. ``enable_compilation_cache(False)`` turns it off.
 
 A stored program is found only by a key naming everything it was built from: the
 caller's key (settings, shapes, dtypes), the hga_jax source (a hash of every module
@@ -19,17 +27,19 @@ name a user's registered operator (code outside hga_jax) are kept in memory only
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import pickle
 import platform
 import tempfile
 import warnings
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 _RECENT: dict[str, Any] = {}
 _RECENT_KEEP = 16
-_FOLDER: list[str | None] = [None]
+_UNSET = object()  # no one chose a folder yet: the first program picks the default
+_FOLDER: list[Any] = [_UNSET]
 _KEEP_BYTES = 512 * 2**20  # the folder's size; the least recently used programs go first
 _FINGERPRINT: list[str] = []
 _TALLY: dict[str, dict[str, int]] = {}
@@ -43,9 +53,22 @@ def use_folder(folder: str | None) -> None:
     _FOLDER[0] = folder
 
 
+@contextlib.contextmanager
+def memory_only() -> Iterator[None]:
+    """Within the block, programs are kept in memory only (``--no-cache``); the folder
+    chosen before (or none chosen yet) comes back after it."""
+    before = _FOLDER[0]
+    use_folder(None)
+    try:
+        yield
+    finally:
+        _FOLDER[0] = before
+
+
 def folder() -> str | None:
-    """The program folder in use (None: programs are kept in memory only)."""
-    return _FOLDER[0]
+    """The program folder in use (None: programs are kept in memory only, or no program
+    was asked for yet and nothing chose: the first one picks the default)."""
+    return None if _FOLDER[0] is _UNSET else _FOLDER[0]
 
 
 def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True,
@@ -61,6 +84,8 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True,
     from hga_jax.jax_compat import compile_with_options
 
     options = dict(options or {})
+    if disk and _FOLDER[0] is _UNSET:
+        _by_default()
     text = repr((key, jax.config.jax_enable_x64, jax.config.jax_threefry_partitionable)
                 + ((tuple(sorted(options.items())),) if options else ()))
     found = _RECENT.pop(text, None)
@@ -84,21 +109,29 @@ def program(key: tuple, lower: Callable[[], Any], *, disk: bool = True,
     return found
 
 
-def enable_compilation_cache(path: str | None = None,
+def enable_compilation_cache(path: str | bool | None = None,
                              on_error: Callable[[str], None] | None = None) -> str | None:
     """Keep compiled programs on disk, so a repeated run skips its compile.
 
     ``path`` defaults to ``$HGA_JAX_CACHE_DIR``, else
     ``$XDG_CACHE_HOME/hga-jax/programs`` (``~/.cache/hga-jax/programs``);
-    ``HGA_JAX_CACHE_DIR=off`` disables it. The GA's and the decoder's programs are
-    stored there (:func:`program`). The command line does this; notebooks may.
-    Returns the folder used, or None. A folder that cannot be created or written
-    only costs compile time: ``on_error`` (default :func:`warnings.warn`) is told
-    why, in one line.
+    ``HGA_JAX_CACHE_DIR=off`` disables it, and so does ``path=False`` (programs are
+    then kept in memory only; ``True`` is the default folder). The GA's and the
+    decoder's programs are stored there (:func:`program`). It is on by default (the
+    module doc says when not): call this to choose another folder, or with ``False``
+    to turn it off. Returns the folder used, or None. A folder that cannot be created
+    or written only costs compile time: ``on_error`` (default :func:`warnings.warn`)
+    is told why, in one line.
     """
+    if path is False:
+        use_folder(None)
+        return None
+    if path is True:
+        path = None
     env = os.environ.get("HGA_JAX_CACHE_DIR")
     where = path if path is not None else env
     if where in ("", "off"):
+        use_folder(None)
         return None
     if where is None:
         base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
@@ -112,11 +145,24 @@ def enable_compilation_cache(path: str | None = None,
     except OSError as e:
         problem = e.strerror or str(e)
     if problem:
+        use_folder(None)
         (on_error or warnings.warn)(f"{named}{where}: cannot keep compiled programs there "
                                     f"({problem}); compiling without a cache")
         return None
     use_folder(where)
     return where
+
+
+def _by_default() -> None:
+    """The first program of a process where nothing chose a folder: the default one
+    (:func:`enable_compilation_cache`), unless JAX's own compilation cache was
+    configured (a folder named, or the cache turned off): then memory only."""
+    import jax
+
+    use_folder(None)
+    if jax.config.jax_compilation_cache_dir or not jax.config.jax_enable_compilation_cache:
+        return
+    enable_compilation_cache()
 
 
 def _jax_cache_on() -> bool:

@@ -120,21 +120,24 @@ def read_toml(path: Any) -> dict[str, Any]:
         raise error(source, "toml", f"syntax error: {e}") from None
 
 
-def car(scenario: Any, settings: GASettings) -> None:
-    """A ConfigError naming the scenario's ``robot.car`` when the GA of ``settings``
-    cannot search that car's paths: its model is not one the GA searches, or not under
-    the settings' collision test."""
+def car(scenario: Any, settings: GASettings, car_from: str | None = None,
+        collision_from: str | None = None) -> None:
+    """A ConfigError naming where the car came from when the GA of ``settings`` cannot
+    search that car's paths: its model is not one the GA searches, or not under the
+    settings' collision test. ``car_from``: ``"<source>: <key>"`` of the car (default: the
+    scenario's ``robot.car``; ``"command line: --car"`` where ``--car`` set it);
+    ``collision_from``: that of the collision test (default: "the settings")."""
     from hga_jax.model import car_model
 
+    where = car_from or f"{scenario.source}: robot.car"
     name = car_model.resolve(settings.turns, scenario.car)
     if not car_model.get(name).searched:
-        raise error(scenario.source, "robot.car", f"{scenario.car}: the GA does not search "
-                    "its paths yet; its optimum is a yardstick (hga-jax exact, a study's "
-                    "yardstick)")
+        raise ConfigError(f"{where}: {scenario.car}: the GA does not search its paths yet; "
+                          "its optimum is a yardstick (hga-jax exact, a study's yardstick)")
     problem = car_model.problem(name, settings.collision)
     if problem:
-        raise error(scenario.source, "robot.car", f"{scenario.car}: {problem} (the settings' "
-                    "collision)")
+        said = f"collision from {collision_from}" if collision_from else "the settings' collision"
+        raise ConfigError(f"{where}: {scenario.car}: {problem} ({said})")
 
 
 def strings(value: Any, source: str, key: str) -> list[str]:

@@ -21,7 +21,7 @@ def robocup():
 
 @pytest.fixture(scope="module")
 def batch100(robocup):
-    return run_many(robocup, seed=3, runs=100, exact=False)
+    return run_many(robocup, "paper", seed=3, runs=100, exact=False)
 
 
 def _same_runs(a, b, rows_a, rows_b):
@@ -32,15 +32,15 @@ def _same_runs(a, b, rows_a, rows_b):
 
 
 def test_same_seed_gives_identical_results(robocup, batch100):
-    again = run_many(robocup, seed=3, runs=100, exact=False)
+    again = run_many(robocup, "paper", seed=3, runs=100, exact=False)
     _same_runs(again, batch100, slice(None), slice(None))
-    other = run_many(robocup, seed=4, runs=100, exact=False)
+    other = run_many(robocup, "paper", seed=4, runs=100, exact=False)
     assert not np.array_equal(other.history["mean_fitness"], batch100.history["mean_fitness"])
 
 
 @pytest.mark.parametrize("k", [0, 41, 99])
 def test_run_k_alone_equals_run_k_in_a_batch(robocup, batch100, k):
-    alone = run_many(robocup, seed=3, runs=1, first_run=k, exact=False)
+    alone = run_many(robocup, "paper", seed=3, runs=1, first_run=k, exact=False)
     _same_runs(alone, batch100, slice(0, 1), slice(k, k + 1))
 
 
@@ -50,7 +50,7 @@ def test_chunking_and_blocks_do_not_change_runs(robocup, batch100, monkeypatch):
     # About 3 generations per block: 51 generations in 17 blocks.
     monkeypatch.setattr(budget, "BLOCK_WORK", 9 * 7 * 50 * 3)
     assert budget.plan(9, batch100.settings, 30, 7).block == 3
-    part = run_many(robocup, seed=3, runs=30, first_run=10, chunk=7, exact=False)
+    part = run_many(robocup, "paper", seed=3, runs=30, first_run=10, chunk=7, exact=False)
     _same_runs(part, batch100, slice(None), slice(10, 40))
 
 
@@ -161,7 +161,7 @@ def test_small_scene_reaches_the_brute_force_minimum():
             p = evaluate_path(sc, perm, labels)
             if p.feasible:
                 best = min(best, p.length)
-    res = run_many(sc, seed=int(rng.integers(100)), runs=20, exact=False)
+    res = run_many(sc, "paper", seed=int(rng.integers(100)), runs=20, exact=False)
     assert res.best.length == pytest.approx(best, rel=1e-9)
     assert np.all(res.length[res.feasible] >= best * (1 - 1e-9))
 

@@ -11,7 +11,7 @@ from hga_jax.running.runner import run_many
 @pytest.fixture(scope="module")
 def batch():
     sc = load_scenario("configs/scenarios/robocup_paper.toml")
-    return sc, run_many(sc, seed=0, runs=1000)
+    return sc, run_many(sc, "paper", seed=0, runs=1000)
 
 
 def test_no_run_beats_the_optimum(batch):

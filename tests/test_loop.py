@@ -133,8 +133,8 @@ def test_poses_carry_time(replanner):
     plan = replanner.step(observation([0, 0, 0], [3, 0, 0], [], BOUND))[0]
     poses = plan.poses(0.5)
     assert plan.length == pytest.approx(3.0, abs=1e-5)  # the straight line
-    assert np.allclose(poses[:, 6], poses[:, 0] / CAR.speed)
-    assert np.allclose(poses[:, 2], 0.0, atol=1e-6) and poses[-1, 1] == pytest.approx(3.0)
+    assert np.allclose(poses["t"], poses["s"] / CAR.speed)
+    assert np.allclose(poses["y"], 0.0, atol=1e-6) and poses["x"][-1] == pytest.approx(3.0)
 
 
 # ---------------------------------------------------------------------------

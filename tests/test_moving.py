@@ -346,3 +346,24 @@ def test_every_velocity_zero_is_the_still_scene_bit_for_bit(model):
     ref = decode64(a, perm, labels, "full", legs)
     for s in (b, c):
         _same_bits(decode64(s, perm, labels, "full", legs), ref)
+
+
+def test_the_search_legs_see_a_crossing_robot_where_it_is_placed():
+    """The per-leg table that seeding, the repair move and the guided move read (never the
+    fitness) lists a robot that crosses the straight path as a blocker of the direct legs,
+    where it stands when the car passes it, without charging those legs a violation (the
+    guided move's score stays the static rules'); standing still off the path it blocks
+    nothing, and under ``wrap_moving = "never"`` (a point no chromosome wraps) neither."""
+    crossing = _scene([_moving(1.5, -1.5, 0.0, 1.0)])
+    sa = crossing.search_arrays(np.float32, with_legs=True)
+    direct = [(a, c) for a in (0, 1) for c in (2, 3)]
+    assert any(bool(sa.legs.blockers[a, c, 0]) for a, c in direct)
+    blocked = [(a, c) for a, c in direct if sa.legs.blockers[a, c, 0]]
+    assert blocked and all(int(sa.legs.count[a, c]) == 1 and not sa.legs.bad[a, c]
+                           for a, c in blocked)
+    never = dataclasses.replace(crossing, wrap_moving="never")
+    nl = never.search_arrays(np.float32, with_legs=True).legs
+    assert not np.any(nl.blockers[..., 0])
+    away = _scene([_moving(1.5, -1.5, 0.0, 0.0)])  # standing, off the path: no blocker
+    al = away.search_arrays(np.float32, with_legs=True).legs
+    assert not any(bool(al.blockers[a, c, 0]) for a, c in direct)

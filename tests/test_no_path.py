@@ -71,17 +71,22 @@ def test_exact_prints_and_writes_one_verdict(tmp_path, capsys, turns):
     assert doc["best"] is None and doc["summary"]["optimum_length"] is None
 
 
-def test_a_run_on_a_scene_without_path_says_so_under_free_turns(tmp_path, capsys):
+def test_a_run_on_a_scene_without_path_is_refused_as_check_refuses_it(tmp_path, capsys):
+    """run follows check: a scene in which no feasible path can exist is bad input (exit
+    2, check's line, nothing searched or written)."""
     scene = _toml(tmp_path / "facing.toml", *FACING)
     assert main(["run", scene, "--turns", "free", "--preset", "paper", "--population", "8",
                  "--generations", "1", "--runs", "2", "--quiet", "--no-cache", "--out",
-                 str(tmp_path / "o")]) == 0
-    text = capsys.readouterr().out
-    assert ("optimum: no feasible path exists (collision full, free turns): the start "
-            "(0.12, 1, heading 180 deg) faces") in text
-    assert "hit rate" not in text and "inf m" not in text and "chromosome" not in text
-    doc = json.loads((tmp_path / "o" / "result.json").read_text())
-    assert doc["optimum"]["feasible"] is False and doc["optimum"]["length"] is None
+                 str(tmp_path / "o")]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err == (f"hga-jax: error: {scene}: no feasible path exists (collision full, free "
+                   "turns): the start (0.12, 1, heading 180 deg) faces the kept field's left "
+                   "edge (x = 0.09 m) 0.03 m away, and turning away needs 0.15 m at rho = 0.15 m: "
+                   "both its turning circles cross that edge ahead of it\n")
+    assert not (tmp_path / "o").exists()
+    assert main(["check", scene]) == 2  # check: the same verdict
+    assert "no feasible path exists (collision full): the start" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("case, words", [

@@ -151,19 +151,5 @@ def test_documents_link_inside_the_repository():
                 assert anchor in _anchors(dest), f"{_name(page)}: {target}"
 
 
-NUMBERS = {w: i for i, w in enumerate(
-    "zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen"
-    .split())}
-
-
-def test_the_documents_count_and_list_the_bundled_studies():
-    bundled = sorted(p.name for p in (ROOT / "configs" / "studies").glob("*.toml"))
-    studies = (ROOT / "docs" / "studies.md").read_text()
-    listed = sorted(re.findall(r"^\| `(\w+\.toml)` \|", studies, flags=re.M))
-    assert listed == bundled  # the table of docs/studies.md: one row per bundled file
-    for page in (README, ROOT / "docs" / "studies.md"):
-        said = re.findall(r"\b(\w+) (?:studies )?are bundled", page.read_text())
-        assert said, f"{_name(page)} no longer says how many studies are bundled"
-        for word in said:
-            assert NUMBERS.get(word.lower()) == len(bundled), (
-                f"{_name(page)} says {word} studies are bundled; there are {len(bundled)}")
+# The counts the documents quote (studies bundled, settings, tests) are checked in
+# tests/test_doc_counts.py.

@@ -450,17 +450,24 @@ def _cmd_run(args) -> int:
 
 
 def _run_checks(args, scenario, settings, out: str, prior: list) -> None:
-    """Before a run searches: the job fits in memory (each process holds the whole
-    result), and (on the process that writes) the output folder takes it: empty, or
-    replaced with --force, or holding the partial result that --resume finishes
-    (appended to ``prior``)."""
+    """Before a run searches: the GA searches the car's paths under the collision test,
+    a feasible path can exist (else the line ``check`` prints, as bad input: nothing is
+    searched), the job fits in memory (each process holds the whole result), and (on
+    the process that writes) the output folder takes it: empty, or replaced with
+    --force, or holding the partial result that --resume finishes (appended to
+    ``prior``)."""
     import jax
 
     from hga_jax.host import report
     from hga_jax.running import budget
     from .output import check_folder
 
-    validation.car(scenario, settings)  # before for_car: the error names robot.car
+    # before for_car: the error names where the car and the collision test came from
+    validation.car(scenario, settings, "command line: --car" if args.car else None,
+                   _collision_from(args, scenario))
+    problem = _no_path(scenario, settings)  # what check refuses, run refuses (exit 2)
+    if problem:
+        raise ConfigError(f"{args.scenario}: {problem}")
     budget.plan(scenario.n, settings.for_car(scenario.car), args.runs, args.chunk,
                 jax.local_device_count())
     if jax.process_index() != 0:
@@ -475,6 +482,18 @@ def _run_checks(args, scenario, settings, out: str, prior: list) -> None:
                           f"of {part['runs_requested']:,} runs): add --resume to finish "
                           "it, or --force to start over")
     check_folder(out, args.force)
+
+
+def _collision_from(args, scenario) -> str:
+    """Where ``run``'s collision test came from: a flag, the --ga file, the scenario's
+    [ga] table, or the preset."""
+    if args.collision is not None:
+        return "command line: --collision"
+    if args.ga and "collision" in _ga_file(args.ga)[0]:
+        return f"{args.ga}: collision"
+    if "collision" in scenario.ga:
+        return f"{scenario.source}: ga.collision"
+    return f"the {args.preset} preset"
 
 
 def _search_runs(args, scenario, settings, out: str, prior, joined: bool, plugins):
@@ -757,8 +776,14 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _main(args) -> int:
+    from hga_jax import compiled
+
+    # every command's --no-cache (study's and episode's too): programs in memory only
+    cache = (compiled.memory_only() if getattr(args, "no_cache", False)
+             else contextlib.nullcontext())
     try:
-        return COMMANDS[args.command](args)
+        with cache:
+            return COMMANDS[args.command](args)
     except ConfigError as e:
         _error(str(e))
         return 2

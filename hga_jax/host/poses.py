@@ -26,6 +26,13 @@ Rows are at ``s = 0, spacing, 2 spacing, ...``, at every segment boundary and at
 the end ``s = length``; a multiple of ``spacing`` within ``TOL`` of a boundary
 gives way to the boundary, so consecutive rows are at most ``spacing + TOL``
 apart along ``s``.
+
+In Python the poses are a numpy structured array of :data:`POSE_DTYPE`: the
+columns above (``gear`` an integer, ``int8``) and ``t``, the time (s) at which the
+car, at its constant speed, passes the pose (``t = s / speed``). :func:`poses` gives
+them for a path, a result, a plan or a scenario's optimum; ``res.best.poses(spacing)``
+(:class:`hga_jax.running.results.BestPath`) and the replanner's ``Plan.poses(spacing)``
+give the same array. The files of ``hga-jax export`` hold the columns without ``t``.
 """
 from __future__ import annotations
 
@@ -44,6 +51,9 @@ UNITS = {"s": "m, arc length from the start", "x": "m", "y": "m",
          "curvature": "1/m, signed: positive turning left (counter-clockwise), 0 on lines",
          "gear": "+1 driving forward, -1 backward"}
 TOL = 1e-9  # m: a multiple of the spacing this close to a segment boundary is left out
+POSE_DTYPE = np.dtype([(c, np.int8 if c == "gear" else np.float64) for c in COLUMNS + ("t",)])
+"""The poses of :func:`poses`: ``s, x, y, heading, curvature`` (float64), ``gear``
+(int8: +1 forward, -1 backward) and ``t`` (float64, s)."""
 
 
 def wrap(angle: Any) -> Any:
@@ -111,6 +121,57 @@ def sample(segments: Sequence[Mapping[str, Any]], spacing: float,
         u = np.clip(s[rows] - bounds[i], 0.0, lengths[i])
         table[rows, 1:] = _poses(segments[i], u)
     return table
+
+
+def sample_poses(segments: Sequence[Mapping[str, Any]], spacing: float,
+                 start: Sequence[float] | None = None, speed: float = 1.0) -> np.ndarray:
+    """:func:`sample` as a structured array of :data:`POSE_DTYPE`, ``t = s / speed``
+    (``speed`` in m/s, > 0)."""
+    speed = float(speed)
+    if not (math.isfinite(speed) and speed > 0.0):
+        raise ValueError(f"speed must be a number > 0 (m/s), got {speed!r}")
+    table = sample(segments, spacing, start=start)
+    out = np.empty(len(table), POSE_DTYPE)
+    for i, name in enumerate(COLUMNS[:5]):
+        out[name] = table[:, i]
+    out["gear"] = np.rint(table[:, 5]).astype(np.int8)
+    out["t"] = table[:, 0] / speed
+    return out
+
+
+def poses(path: Any, spacing: float = 0.01, *, scenario: Any = None,
+          speed: float | None = None) -> np.ndarray:
+    """A path as poses every ``spacing`` m (and at each piece's ends): a structured array
+    of :data:`POSE_DTYPE` (``poses["x"]``, ``poses["gear"]``, ``poses["t"]``).
+
+    ``path``: a scenario (its exact optimum, :func:`hga_jax.model.exact.solve`; a
+    ValueError saying why where no feasible path exists), a
+    :class:`~hga_jax.running.results.RunsResult` (its best path), a path
+    (:class:`~hga_jax.model.path.Path`, the result's ``best``, a replanner's ``Plan``, an
+    :class:`~hga_jax.model.exact.ExactResult`), or a list of the result files'
+    segment dicts. ``scenario`` gives the start pose (the one pose of an empty path)
+    and the speed of a path that does not carry them; ``speed`` (m/s) sets the time
+    scale (default: the path's or the scenario's ``speed``, else 1 m/s)."""
+    from hga_jax.model.scenario import Scenario
+
+    if isinstance(path, Scenario):
+        from hga_jax.model.exact import solve
+        from hga_jax.model.no_path import verdict
+
+        scenario, found = path, solve(path)
+        if not found.feasible:
+            why = verdict(found.collision, found.turns, found.message)
+            raise ValueError(f"{path.name}: {why}")
+        path = found
+    elif hasattr(path, "best") and hasattr(path, "scenario"):  # a RunsResult
+        scenario, path = scenario or path.scenario, path.best
+    start = getattr(path, "start", None)
+    if start is None or len(start) == 0:  # a plan without its pose, a bare path
+        start = None if scenario is None else scenario.start
+    if speed is None:
+        speed = getattr(path, "speed", None) or (1.0 if scenario is None else scenario.speed)
+    segments = path.segments if hasattr(path, "segments") else path
+    return sample_poses(list(segments), spacing, start=start, speed=speed)
 
 
 def at(segments: Sequence[Mapping[str, Any]], s: Any) -> np.ndarray:

@@ -97,6 +97,13 @@ def _extras(st: GASettings) -> str:
     return "".join("; " + o for o in out)
 
 
+def gap_pct(gap: float | None) -> str:
+    """A gap as a percentage with two decimals; one that rounds to zero is ``0.00%``, never
+    ``-0.00%`` (a path shorter than the optimum by less than 0.005 %: float rounding)."""
+    text = pct(gap)
+    return text[1:] if text.startswith("-") and float(text[1:-1]) == 0.0 else text
+
+
 def _generations(value: float | None, runs: int, what: str) -> str:
     if value is None:
         return f"to {what}: no run got there"
@@ -144,8 +151,8 @@ def run_summary(res: RunsResult) -> str:
             f"{name} {s['optimum_length']:.6f} m: hit rate {pct(s['hit_rate'])} "
             f"({s['runs_hit']:,} of {count(runs, 'run')}); gap over the "
             f"{count(s['feasible_runs'], 'feasible run')}: "
-            + (f"median {pct(s['gap_median'])}, mean {pct(s['gap_mean'])}, "
-               f"max {pct(s['gap_max'])}" if s["feasible_runs"] else "none")
+            + (f"median {gap_pct(s['gap_median'])}, mean {gap_pct(s['gap_mean'])}, "
+               f"max {gap_pct(s['gap_max'])}" if s["feasible_runs"] else "none")
             + f"; {count(s['infeasible_runs'], 'run')} ended infeasible")
         lines.append("median generations: "
                      + _generations(s["median_generation_within_1pct"], s["runs_within_1pct"],
@@ -272,7 +279,7 @@ def run_figures(res: RunsResult) -> dict[str, Any]:
         length_label="best-so-far Dist$_m$ = length + penalty (m)",
         reached=None if opt is None else {"within 1%": res.first_generation_within(0.01),
                                           "optimum": res.generation_hit},
-        population=st.population)
+        population=st.population, restart_after=st.restart_after)
     return {"path.png": path, "convergence.png": conv}
 
 
@@ -510,9 +517,12 @@ def redraw(path: str, run: int | None = None, with_optimum: bool = False) -> Any
             solved = solve(sc, collision, turns)
             opt = {"feasible": solved.feasible, "length": solved.length,
                    "segments": solved.segments}
+        itself = st is None and run is None  # an exact result: its path is the optimum
         if opt["feasible"]:
-            overlay, note = opt["segments"], f"; optimum {opt['length']:.4f} m (dashed)"
-        else:
+            overlay = opt["segments"]
+            note = ("; dashed: the same optimum" if itself
+                    else f"; optimum {opt['length']:.4f} m (dashed)")
+        elif not itself:  # else the title already says there is none
             note = f"; optimum: {NO_PATH}"
     title = (path_title(sc.name, what, length, viol, collision, st) if length is not None
              else f"{sc.name}: " + verdict(collision, turns))

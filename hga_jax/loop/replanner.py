@@ -68,12 +68,13 @@ class Plan:
     start: tuple = field(default_factory=tuple)
 
     def poses(self, spacing: float = 0.05) -> np.ndarray:
-        """``(k, 7)`` poses along the plan every ``spacing`` m (and at each piece's ends):
-        columns ``s, x, y, heading, curvature, gear, t`` (``t = s / speed``, s)."""
-        from hga_jax.host.poses import sample
+        """Poses along the plan every ``spacing`` m (and at each piece's ends), as
+        :func:`hga_jax.host.poses.poses` and ``RunsResult.best.poses`` give them: a numpy
+        structured array with columns ``s, x, y, heading, curvature`` (float64), ``gear``
+        (int8, +1 forward, -1 backward) and ``t`` (``s / speed``, s)."""
+        from hga_jax.host.poses import sample_poses
 
-        table = sample(self.segments, spacing, start=self.start or None)
-        return np.concatenate([table, table[:, :1] / self.speed], axis=1)
+        return sample_poses(self.segments, spacing, start=self.start or None, speed=self.speed)
 
 
 def _segments(circles, arcs, lines, count) -> list:

@@ -158,6 +158,15 @@ def with_end_arcs(legs: Legs, tb: TangentTable, start, goal, centres, model_radi
                          length=length, listed=order, count=count)
 
 
+def with_blockers_of(legs: Legs, other: Legs) -> Legs:
+    """``legs`` with the blockers of ``other`` (``blockers``, ``blocked``, ``listed``,
+    ``count``): among robots that move, the static rules' legs (lengths and violations)
+    with the blockers that the moving robots' placed circles add
+    (:meth:`~hga_jax.model.scenario.Scenario.guide_radii`)."""
+    return legs._replace(blockers=other.blockers, blocked=other.blocked, listed=other.listed,
+                         count=other.count)
+
+
 def free_aware(legs: Legs, table) -> Legs:
     """``legs`` with the pairs whose gene-0 leg of the float64 leg ``table`` is free
     made clear (no blockers, not bad) and given that leg's length."""

@@ -103,6 +103,18 @@ class Scenario:
             return np.where(self.moving, 0.0, self.model_radii)
         return self.model_radii
 
+    def guide_radii(self) -> np.ndarray:
+        """The radii the search's per-leg blockers (:mod:`hga_jax.model.legs`: the robots
+        that seeding and the repair move wrap) are tested with (m): among robots that
+        move, each moving robot's circle where it is placed (:meth:`placement_times`)
+        blocks a leg as a standing robot's does, so that those moves wrap robots that
+        cross the path; else :attr:`blocking_radii`. The legs' violations (``bad``,
+        charged by the guided move) stay those of the static rules, and the fitness
+        never reads it: a moving robot is judged in time."""
+        if self.has_motion and self.wrap_moving != "never":
+            return np.asarray(self.model_radii, np.float64)
+        return np.asarray(self.blocking_radii, np.float64)
+
     @property
     def blocking_radii(self) -> np.ndarray:
         """The radii the static rules test pieces against (m): ``R_i`` for a robot that
@@ -229,9 +241,16 @@ class Scenario:
         if with_legs:
             def built_legs():
                 s64 = self.arrays(np.float64)
-                built = legs.build(s64.tangents, s64.centres, s64.model_radii, self.delta)
-                return legs.with_end_arcs(built, s64.tangents, s64.start, s64.goal,
-                                          s64.centres, s64.model_radii, s64.bounds)
+
+                def with_radii(radii):
+                    built = legs.build(s64.tangents, s64.centres, radii, self.delta)
+                    return legs.with_end_arcs(built, s64.tangents, s64.start, s64.goal,
+                                              s64.centres, radii, s64.bounds)
+
+                still = with_radii(s64.model_radii)
+                if not self.has_motion:
+                    return still
+                return legs.with_blockers_of(still, with_radii(self.guide_radii()))
 
             def typed_legs():  # lengths in the search's dtype
                 lg = self.cached("legs", built_legs)

@@ -3,12 +3,14 @@
 Lengths are metres and come from the float64 re-evaluation. ``gap = length /
 optimum - 1`` for a feasible run (``inf`` for an infeasible one); when the optimum
 is 0 m (start and goal poses equal), the gap is 0 for a path no longer than
-``ZERO_LENGTH`` and ``inf`` otherwise. A run *hits* the optimum when its gap is
-below ``HIT_GAP``. Generations count from 0 (the initial population). The file
-format is described in docs/model.md.
+``ZERO_LENGTH`` and ``inf`` otherwise; a gap within ``GAP_NOISE`` of 0 (the float64
+rounding of a path as long as the optimum, e.g. -2.2e-16) is 0. A run *hits* the
+optimum when its gap is below ``HIT_GAP``. Generations count from 0 (the initial
+population). The file format is described in docs/model.md.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import platform
 from dataclasses import asdict, dataclass
@@ -24,7 +26,33 @@ from hga_jax.search.settings import GASettings
 HIT_GAP = 1e-6
 NEAR_GAP = 0.01
 ZERO_LENGTH = 1e-9  # metres: a path this short matches an optimum of 0 m
+GAP_NOISE = 1e-12  # a gap this close to 0 is rounding (the optimum's own length): 0
 SEARCH_SLACK = 1e-5  # metres: absolute slack on the search's own (float32) lengths
+
+
+@dataclass
+class BestPath(Path):
+    """:attr:`RunsResult.best`: the best run's :class:`~hga_jax.model.path.Path`, with the
+    scenario's ``start`` pose (x, y, heading in rad) and the car's ``speed`` (m/s), so
+    that it can be sampled as poses."""
+
+    start: tuple[float, ...] = ()
+    speed: float = 1.0
+
+    @classmethod
+    def of(cls, path: Path, scenario: Scenario) -> "BestPath":
+        fields = {f.name: getattr(path, f.name) for f in dataclasses.fields(Path)}
+        return cls(**fields, start=tuple(float(v) for v in scenario.start),
+                   speed=float(scenario.speed))
+
+    def poses(self, spacing: float = 0.01) -> np.ndarray:
+        """The path as poses every ``spacing`` m (and at each piece's ends): a numpy
+        structured array with columns ``s, x, y, heading, curvature`` (float64), ``gear``
+        (int8, +1 forward, -1 backward) and ``t`` (``s / speed``, s), as
+        :func:`hga_jax.host.poses.poses` gives them."""
+        from hga_jax.host.poses import sample_poses
+
+        return sample_poses(self.segments, spacing, start=self.start or None, speed=self.speed)
 
 
 def best_run(length, violations) -> int:
@@ -37,10 +65,12 @@ def best_run(length, violations) -> int:
 
 def gap_of(length, feasible, optimum: float) -> np.ndarray:
     """``length / optimum - 1`` where feasible, inf elsewhere (see the module doc for an
-    optimum of 0 m); elementwise over numpy arrays or numbers."""
+    optimum of 0 m; one within ``GAP_NOISE`` of 0 is 0); elementwise over numpy arrays or
+    numbers."""
     length = np.asarray(length, np.float64)
     if optimum > 0.0:
         rel = length / optimum - 1.0
+        rel = np.where(np.abs(rel) <= GAP_NOISE, 0.0, rel)
     else:
         rel = np.where(length <= ZERO_LENGTH, 0.0, np.inf)
     return np.where(feasible, rel, np.inf)
@@ -65,7 +95,7 @@ class RunsResult:
     violations: np.ndarray  # (R,)
     generation: np.ndarray  # (R,) generation its best was first reached
     history: dict[str, np.ndarray]  # name -> (G + 1, R)
-    best: Path  # overall best path (float64)
+    best: Path  # overall best path (float64): a BestPath, whose poses(spacing) samples it
     best_run: int
     optimum: Any = None  # exact.ExactResult or None
     compile_s: float = 0.0

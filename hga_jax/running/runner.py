@@ -31,13 +31,22 @@ from hga_jax.search.ga import Record
 from hga_jax.running.progress import bar as bar_of, tick
 from hga_jax.words import count
 from hga_jax.model.path import decode64, evaluate_path
-from hga_jax.running.results import RunsResult, best_run
+from hga_jax.running.results import BestPath, RunsResult, best_run
 from hga_jax.model.scenario import Scenario
 from hga_jax.search.settings import GASettings
 from hga_jax.search.settings import preset as presets
 
-def settings_for(scenario: Scenario, base: GASettings | None = None) -> GASettings:
-    """The scenario's ``[ga]`` table on top of ``base`` (default: the paper's settings)."""
+DEFAULT_PRESET = "recommended"
+"""The preset :func:`run_many` and :func:`settings_for` start from when given none: the
+command line's (``hga-jax run --preset``'s default). Name ``"paper"`` for the paper's
+HGA (roulette selection, no elites)."""
+
+
+def settings_for(scenario: Scenario, base: GASettings | str | None = None) -> GASettings:
+    """The scenario's ``[ga]`` table on top of ``base``: settings, or a preset's name
+    (default: :data:`DEFAULT_PRESET`, the recommended preset, as ``hga-jax run``)."""
+    if base is None or isinstance(base, str):
+        base = presets(DEFAULT_PRESET if base is None else base, "settings_for")
     return GASettings.from_mapping(scenario.ga, scenario.source, base=base)
 
 
@@ -59,15 +68,18 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
              preset: str | None = None, turns: str | None = None) -> RunsResult:
     """Runs ``first_run .. first_run + runs - 1`` of ``seed`` on ``scenario``.
 
-    ``settings`` defaults to the scenario's ``[ga]`` table over the paper's
-    settings; a preset's name (``"recommended"``, ``"paper"``) puts that table over
-    the preset's settings and records the name. ``exact`` also solves the model's optimum and reports the gap.
+    ``settings``: a preset's name (``"recommended"``, ``"paper"``) puts the scenario's
+    ``[ga]`` table over the preset's settings and records the name; None (the default)
+    is ``preset`` if given, else ``"recommended"`` (:data:`DEFAULT_PRESET`, the command
+    line's default; ``"paper"`` gives the paper's HGA); :class:`GASettings` are used as
+    they are. ``exact`` also solves the model's optimum and reports the gap.
     ``chunk``: runs per compiled batch (None: sized by :mod:`hga_jax.running.budget`, which
     also lowers a ``chunk`` that would not fit in memory and refuses a job whose
     results cannot fit). Each batch runs in blocks of generations, so Ctrl-C stops
     the job within a block (:class:`~hga_jax.errors.Interrupted`); ``progress``
     shows a bar of generations on stderr. ``preset``: the name of the preset the
-    settings were built on (:data:`hga_jax.search.settings.PRESETS`), recorded in the result.
+    settings were built on (:data:`hga_jax.search.settings.PRESETS`), recorded in the
+    result; without ``settings``, the preset run.
     ``turns``: the car model the optimum is solved in, the yardstick of the gaps
     (:mod:`hga_jax.model.car_model`): ``"tight-rope"`` (the paper's) or ``"free"`` (the
     car's shortest path; the full collision test only); None: the model the GA searches
@@ -81,10 +93,11 @@ def run_many(scenario: Scenario, settings: GASettings | str | None = None, *, se
     one a single process gives; ``compile_s`` and ``search_s`` are then the
     slowest process's, and only process 0 shows progress.
     """
+    if settings is None:  # the command line's default preset (or the one named)
+        settings = preset or DEFAULT_PRESET
     if isinstance(settings, str):  # a preset's name: its settings under the scenario's [ga]
         preset = settings
         settings = settings_for(scenario, presets(settings, "run_many"))
-    settings = settings or settings_for(scenario)
     validation.car(scenario, settings)
     settings = settings.for_car(scenario.car)
     if settings.model.car != scenario.car:  # turns named another car's model: that car's run
@@ -134,7 +147,7 @@ def _result(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
         perm=found.perm, labels=found.labels, legs=found.legs, length=length,
         violations=violations,
         generation=found.generation, history=found.history,
-        best=best_path, best_run=first_run + top, optimum=optimum,
+        best=BestPath.of(best_path, scenario), best_run=first_run + top, optimum=optimum,
         compile_s=found.compile_s, search_s=found.search_s,
         finish_s=found.finish_s + time.perf_counter() - t0,
         evaluations=runs * settings.population * (settings.generations + 1),
@@ -205,9 +218,8 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
     sharding = _sharding()
     ks_all = np.arange(first_run, first_run + cut.batches * size, dtype=np.int32)
     if progress:
-        print(f"compiling: batches of {count(size, 'run')} x {count(settings.population, 'individual')}"
-              f", {count(cut.block, 'generation')} per step ({count(cut.batches, 'batch', 'batches')}"
-              f" for {count(runs, 'run')}) ...", file=sys.stderr, flush=True)
+        job = _job_words(size, settings.population, gens, cut.block, cut.batches, runs)
+        print(f"compiling: {job} ...", file=sys.stderr, flush=True)
     hist = {name: np.zeros((gens + 1, runs), dt) for name, dt in _record_dtypes(dtype).items()}
     bests, bar = [], None
     b = done = 0  # batch, generations done in it (for the interrupt message)
@@ -260,6 +272,21 @@ def _search(scenario: Scenario, settings: GASettings, seed: int, first_run: int,
         if bar is not None:
             bar.close()
     return _finished(scenario, settings, bests, hist, compile_s, search_s)
+
+
+def _job_words(size: int, population: int, gens: int, block: int, batches: int,
+               runs: int) -> str:
+    """How a job is cut, in the numbers the user chose: ``batches of 1,000 runs x 50
+    individuals, generations 0..150 in 7 steps of up to 23 each (1 batch for 1,000
+    runs)``. A step is one compiled call (progress and Ctrl-C come between steps); the
+    generations are those the run makes (the budget's, ``gens``), not the program's
+    block length, which may be longer (its steps past ``gens`` are skipped)."""
+    per = min(block, gens + 1)
+    steps = -(-(gens + 1) // per)
+    cut = "one step" if steps == 1 else f"{steps} steps of up to {per} each"
+    return (f"batches of {count(size, 'run')} x {count(population, 'individual')}, "
+            f"generations 0..{gens:,} in {cut} ({count(batches, 'batch', 'batches')} for "
+            f"{count(runs, 'run')})")
 
 
 def _finished(scenario: Scenario, settings: GASettings, bests, hist, compile_s: float,

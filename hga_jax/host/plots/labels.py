@@ -1,6 +1,7 @@
-"""Placing a path figure's texts once the figure is laid out, in display pixels: a
-title that fits, obstacle numbers off violation crosses, CW/CCW tags clear of other
-circles and of each other."""
+"""Laying a path figure out: the figure sized to its scene, its enlarged squares below
+the legend, and its texts placed once it is laid out, in display pixels: a title that
+fits, obstacle numbers off violation crosses, CW/CCW tags clear of other circles and of
+each other."""
 from __future__ import annotations
 
 import textwrap
@@ -17,6 +18,13 @@ from .style import EDGE_PAD_PT
 
 LABEL_PAD_PT = 1.0  # room (points) kept round a placed label
 MIN_TITLE_PT = 7.0  # a path plot's title shrinks down to this size, then is broken up
+MIN_BOX_IN = 2.5  # inches: the least a path figure sized to its scene leaves its axes
+FIT_SLACK = 0.01  # a box this much larger than the view's shape is left as it is
+FIT_ROUNDS = 4  # layouts tried while sizing a figure to its scene
+ZOOM_ROOM_IN = 1.3  # inches kept below a path figure's legend for its enlarged squares
+ZOOM_MAX_IN = 1.8  # an enlarged square's greatest side (inches)
+ZOOM_GAP_PT = 4.0  # points between the legend, the enlarged squares and their titles
+ZOOM_TITLE_PT = 20.0  # points an enlarged square's title (two lines) takes above it
 # Where a CW/CCW tag may go round its obstacle, in order of preference: below (as
 # the eye expects), then the angles nearest below, round to above, every 15 degrees.
 TAG_ANGLES = np.radians(-90 + np.array([0, 15, -15, 30, -30, 45, -45, 60, -60, 75, -75, 90, -90,
@@ -26,14 +34,80 @@ TAG_ANGLES = np.radians(-90 + np.array([0, 15, -15, 30, -30, 45, -45, 60, -60, 7
 NUMBER_TURNS = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
 
 
-def _lay_out(ax: Axes, view: tuple[np.ndarray, np.ndarray]) -> None:
-    """Lay the figure out as it will be drawn, then widen the view ``(lo, hi)`` (data
-    corners) along x or y to the shape of the box the layout gave the axes: at equal
-    aspect they then fill that box, so the title and legend stay where the layout
-    measured them (shrinking the box instead would move them), and what is measured
-    next is where it will be drawn."""
+def under_legend(ax: Axes, k: int, count: int):
+    """An axes locator that puts an inset, the ``k``-th of ``count``, below the legend of
+    ``ax`` (outside on its right): squares as large as the room between the legend and
+    the axes' bottom allows (at most :data:`ZOOM_MAX_IN`), within the legend's width,
+    each with room for its title; in a row, or one above the other where that makes
+    them larger."""
+    def locate(inset: Axes, renderer) -> Bbox:
+        fig = ax.get_figure(root=False)
+        px = fig.dpi / 72
+        gap, title = ZOOM_GAP_PT * px, ZOOM_TITLE_PT * px
+        box = ax.get_window_extent(renderer)
+        leg = ax.get_legend()
+        lb = (leg.get_window_extent(renderer) if leg is not None
+              else Bbox.from_bounds(box.x1 + gap, box.y1, ZOOM_MAX_IN * fig.dpi, 0))
+        top = lb.y0 - gap - title
+        width, most = max(lb.width, 1.0), ZOOM_MAX_IN * fig.dpi
+        row = min(most, top - box.y0, (width - (count - 1) * gap) / count)
+        column = min(most, width, (top - box.y0 - (count - 1) * (gap + title)) / count)
+        if column > row:  # one above the other: larger squares
+            side = max(1.0, column)
+            x0, y1 = lb.x0, top - k * (side + gap + title)
+        else:
+            side = max(1.0, row)
+            x0, y1 = lb.x0 + k * (side + gap), top
+        return Bbox.from_bounds(x0, y1 - side, side, side).transformed(
+            fig.transSubfigure.inverted())
+
+    return locate
+
+
+def _fit_figure(ax: Axes, view: tuple[np.ndarray, np.ndarray], room: float = 0.0) -> None:
+    """Size a figure that holds ``ax`` alone to the view ``(lo, hi)``: lay it out, then
+    take from its height (or width) what the axes' box has beyond the view's shape at
+    equal aspect, so that the view fills the box without widening (the margins the
+    layout keeps for title, labels and legend stay). The box keeps at least the
+    legend's height and ``room`` inches more (for what goes below the legend), and
+    :data:`MIN_BOX_IN`; what is left over widens the view."""
     fig = ax.get_figure(root=True)
     engine = fig.get_layout_engine()
+    if engine is None or fig is not ax.get_figure(root=False):
+        return
+    size = np.maximum(np.asarray(view[1], float) - np.asarray(view[0], float), 1e-12)
+    shape = size[1] / size[0]  # height over width of the view
+    legend = ax.get_legend()
+    for _ in range(FIT_ROUNDS):
+        engine.execute(fig)
+        w, h = fig.get_size_inches()
+        pos = ax.get_position(original=True)
+        bw, bh = pos.width * w, pos.height * h
+        tall = MIN_BOX_IN
+        if legend is not None:
+            tall = max(tall, legend.get_window_extent(_renderer(fig)).height / fig.dpi
+                       + 0.1 + room)
+        if bh > bw * shape * (1 + FIT_SLACK) and bh > tall:  # room to spare in height
+            h -= bh - max(bw * shape, tall)
+        elif bw > bh / shape * (1 + FIT_SLACK) and bw > MIN_BOX_IN:  # in width
+            w -= bw - max(bh / shape, MIN_BOX_IN)
+        else:
+            break
+        fig.set_size_inches(w, h)
+
+
+def _lay_out(ax: Axes, view: tuple[np.ndarray, np.ndarray], fit: bool = False,
+            room: float = 0.0) -> None:
+    """Lay the figure out as it will be drawn (``fit``: first size it to the view,
+    :func:`_fit_figure`), then widen the view ``(lo, hi)`` (data corners) along x or y
+    to the shape of the box the layout gave the axes: at equal aspect they then fill
+    that box, so the title and legend stay where the layout measured them (shrinking
+    the box instead would move them), and what is measured next is where it will be
+    drawn."""
+    fig = ax.get_figure(root=True)
+    engine = fig.get_layout_engine()
+    if fit:
+        _fit_figure(ax, view, room)
     if engine is not None:
         engine.execute(fig)
     box = ax.get_position(original=True).transformed(ax.get_figure(root=False).transSubfigure)
@@ -111,19 +185,30 @@ def _within(inner: Bbox, outer: Bbox) -> bool:
             and inner.y1 <= outer.y1)
 
 
+def _is_path(gid: str | None) -> bool:
+    """Whether an artist's gid is that of a drawn piece of path: ``arc``, ``line``, a car
+    model's kinds of them (``free_arc``, ``reverse_line``, ...), the optimum's, a
+    violating piece."""
+    return bool(gid) and (gid in ("arc", "line", "optimum_path", "violation_piece")
+                          or gid.endswith(("_arc", "_line")))
+
+
 def place_labels(ax: Axes, view: tuple[np.ndarray, np.ndarray], centres: np.ndarray,
                   radii: np.ndarray, model: np.ndarray, numbers: list[Text],
-                  tags: dict[int, Text], crosses: list[Line2D]) -> None:
-    """Lay the figure out and fit the title, then move obstacle numbers off the
-    violation crosses and put each CW/CCW tag where it meets no other obstacle's
-    circle or label. Positions are chosen in display pixels, once the figure is laid
-    out as it will be saved, and kept in data coordinates."""
-    _lay_out(ax, view)
+                  tags: dict[int, Text], crosses: list[Line2D], fit: bool = False,
+                  room: float = 0.0) -> None:
+    """Lay the figure out (``fit``: a figure of this axes alone, sized to the view:
+    :func:`_fit_figure`, keeping ``room`` inches below the legend) and fit the title,
+    then move obstacle numbers off the violation crosses and put each CW/CCW tag where
+    it meets no other obstacle's circle or label. Positions are chosen in display
+    pixels, once the figure is laid out as it will be saved, and kept in data
+    coordinates."""
+    _lay_out(ax, view, fit, room)
     for _ in range(4):  # a smaller title changes the layout, which moves the title
         if not _fit_title(ax):
             break
-        _lay_out(ax, view)
-    _lay_out(ax, view)  # again: the new limits may have changed the tick labels
+        _lay_out(ax, view, fit, room)
+    _lay_out(ax, view, fit, room)  # again: the new limits may have changed the tick labels
     if not numbers:
         return
     fig = ax.get_figure(root=True)
@@ -135,7 +220,7 @@ def place_labels(ax: Axes, view: tuple[np.ndarray, np.ndarray], centres: np.ndar
     scale = float(np.hypot(*(to_px.transform([1.0, 0.0]) - to_px.transform([0.0, 0.0]))))
     model_px = model * scale
     lines = [ln.get_transform().transform_path(ln.get_path()) for ln in ax.get_lines()
-             if ln.get_gid() in ("arc", "free_arc", "line", "optimum_path", "violation_piece")]
+             if _is_path(ln.get_gid())]
     cross_boxes = [c.get_window_extent(r).padded(c.get_markeredgewidth() / 2 * px + pad)
                    for c in crosses]
 

@@ -140,15 +140,21 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
                      turns_free=sc.cached(("turns_free", dtype.name), turns))
     if with_legs:
         def aware():
+            lg = aware_of(sc.arrays(np.float64).model_radii)
+            if sc.has_motion:  # the blockers of the moving robots' placed circles too
+                lg = leg_info.with_blockers_of(lg, aware_of(sc.guide_radii()))
+            return lg._replace(length=np.asarray(lg.length, dtype),
+                               penalty=np.asarray(lg.penalty, dtype))
+
+        def aware_of(radii):
             s64, t = sc.arrays(np.float64), leg_table(sc)
             tb = s64.tangents
-            base = leg_info.free_aware(leg_info.build(tb, s64.centres, s64.model_radii,
-                                                      sc.delta), t)
+            base = leg_info.free_aware(leg_info.build(tb, s64.centres, radii, sc.delta), t)
 
             def arcs(v, legs):  # with the end arcs of gene v's legs
                 pts = (t.p1x[v], t.p1y[v], t.p2x[v], t.p2y[v], t.coincident[v])
                 return leg_info.with_end_arcs(legs, tb, s64.start, s64.goal, s64.centres,
-                                              s64.model_radii, s64.bounds, pts)
+                                              radii, s64.bounds, pts)
 
             lg = arcs(0, base)
             # An end leg whose gene-0 leg meets an obstacle or the field on its end arc,
@@ -162,8 +168,7 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
                 take = lg.bad & ~alt.bad
                 lg = lg._replace(bad=lg.bad & ~take, length=np.where(take, alt.length,
                                                                         lg.length))
-            return lg._replace(length=np.asarray(lg.length, dtype),
-                               penalty=np.asarray(lg.penalty, dtype))
+            return lg
 
         # the tight rope's legs, without the arcs of its turn table (guided_arcs: the
         # tight rope only)

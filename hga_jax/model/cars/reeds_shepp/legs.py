@@ -216,7 +216,12 @@ def search_arrays(sc: Scenario, dtype: Any = np.float32, with_legs: bool = False
     if with_legs:
         def tangents():  # the tangents' legs in float64, built once for both
             s64 = sc.arrays(np.float64)
-            return leg_info.build(tangent_table(sc), s64.centres, s64.model_radii, sc.delta)
+            built = leg_info.build(tangent_table(sc), s64.centres, s64.model_radii, sc.delta)
+            if not sc.has_motion:
+                return built
+            # among robots that move: the blockers of their placed circles too
+            return leg_info.with_blockers_of(built, leg_info.build(
+                tangent_table(sc), s64.centres, sc.guide_radii(), sc.delta))
 
         def device(lg):  # in dtype; the path's ends are left to the end move
             return lg._replace(length=np.asarray(lg.length, dtype),
