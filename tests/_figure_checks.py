@@ -239,3 +239,29 @@ def drawn_over(a, b) -> bool:
     assert ax is not None and ax is b.axes, "the artists must share an axes"
     order = ax.get_children()
     return (a.get_zorder(), order.index(a)) > (b.get_zorder(), order.index(b))
+
+
+def saved_dpi() -> float:
+    """The dpi the project writes its PNGs at (``save_figure``'s default)."""
+    import inspect
+
+    from hga_jax.host.plots import save_figure
+
+    return inspect.signature(save_figure).parameters["dpi"].default
+
+
+def written(fig: Figure) -> Figure:
+    """``fig`` laid out as its PNG is written, then measured at the PNG's dpi."""
+    rendered(fig)
+    fig.set_dpi(saved_dpi())
+    return fig
+
+
+def by_gid(ax, gid: str) -> list:
+    """The artists of ``ax`` tagged ``gid``."""
+    return [a for a in ax.get_children() if a.get_gid() == gid]
+
+
+def legend_labels(ax) -> list[str]:
+    """The texts of ``ax``'s legend, in order."""
+    return [t.get_text() for t in ax.get_legend().get_texts()]

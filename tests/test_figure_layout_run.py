@@ -16,6 +16,7 @@ import pytest
 from matplotlib.patches import Circle
 
 import _figure_checks as checks
+from _figure_checks import by_gid, legend_labels, written
 from hga_jax.host.config import load_scenario
 from hga_jax.host.plots import plot_convergence, plot_path, save_figure
 from hga_jax.host.report import path_title
@@ -26,21 +27,6 @@ from hga_jax.search.settings import GASettings
 SAVED_DPI = inspect.signature(save_figure).parameters["dpi"].default  # the PNG's
 OPTIMUM_NOTE = "; optimum 2.2454 m (dashed)"  # what ``hga-jax plot --with-optimum`` adds
 RHO = r"turning circles ($\rho$)"
-
-
-def written(fig):
-    """``fig`` laid out as its PNG is written, then measured at the PNG's dpi."""
-    checks.rendered(fig)
-    fig.set_dpi(SAVED_DPI)
-    return fig
-
-
-def by_gid(ax, gid):
-    return [a for a in ax.get_children() if a.get_gid() == gid]
-
-
-def legend_labels(ax) -> list[str]:
-    return [t.get_text() for t in ax.get_legend().get_texts()]
 
 
 def in_axes(ax):

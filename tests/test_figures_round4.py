@@ -20,6 +20,7 @@ import pytest
 from matplotlib.transforms import Bbox
 
 import _figure_checks as checks
+from _figure_checks import by_gid, legend_labels, written
 from hga_jax import scenario_from_dict
 from hga_jax.host.plots import plot_convergence, plot_path, save_figure
 from hga_jax.host.plots.convergence import restarts_of
@@ -42,20 +43,6 @@ WALL = {"name": "wall_n009_000",
             (0.4134, 1.7414), (1.7567, 0.9648), (0.874, 2.0741), (0.5932, 0.4608),
             (0.7467, 1.2008))],
         "field": {"xmin": 0.0, "xmax": 2.8, "ymin": 0.0, "ymax": 2.3, "keep_inside": True}}
-
-
-def written(fig):
-    checks.rendered(fig)
-    fig.set_dpi(SAVED_DPI)
-    return fig
-
-
-def by_gid(ax, gid):
-    return [a for a in ax.get_children() if a.get_gid() == gid]
-
-
-def legend_labels(ax) -> list[str]:
-    return [t.get_text() for t in ax.get_legend().get_texts()]
 
 
 def _length(xy) -> float:

@@ -120,7 +120,7 @@ def arrays(obs: Observation, car: Car) -> ScenarioArrays:
     velocities = jnp.where(present[:, None], obs.velocities, 0.0)
     placed = placement(obs.pose, centres, velocities, speed)
     circles_at = jnp.where(present[:, None], centres + velocities * placed[:, None], far)
-    bounds = jnp.asarray(np.asarray(car.bounds, np.float64), dt)
+    bounds = jnp.asarray(car.bounds, dt)  # python floats or (4,) arrays (a batch's cars)
     circles = tangents.oriented_circles(obs.pose, obs.goal, circles_at, big_r, rho)
     none = jnp.zeros((n,), dt)  # no robot blocks by the static rules: all are judged in time
     # (so the table tests its tangents against none: the field and missing tangents only)

@@ -168,6 +168,7 @@ class Replanner:
         self.frame = 0
         self._program = _program(car, self.settings.structure(), self.generations,
                                  self.immigrants)
+        self._programs: dict = {}  # the compiled programs, by the observations' shapes
         self._keys = _frame_keys
         self._base = jax.vmap(lambda k: jax.random.fold_in(rng.key(self.seed), k))(
             jnp.arange(self.cars))
@@ -198,10 +199,25 @@ class Replanner:
         return time.perf_counter() - t0
 
     def compiles(self) -> int:
-        """How many programs this replanner's frame program has compiled so far (shared by
-        the replanners of the same car and settings): one per bound and car count, whatever
+        """How many frame programs this replanner has built so far (compiled, or loaded from
+        the program folder of :mod:`hga_jax.compiled`, or reused from another replanner of
+        the same car and settings in this process): one per bound and car count, whatever
         robots come and go."""
-        return self._program._cache_size()
+        return len(self._programs)
+
+    def _executable(self, keys, core, obs):
+        """The compiled frame program for these shapes, through :func:`hga_jax.compiled.program`
+        (kept on disk as the GA's are: a later process loads it instead of compiling)."""
+        from hga_jax import compiled
+
+        shapes = tuple((tuple(a.shape), str(a.dtype)) for a in jax.tree.leaves(obs))
+        exe = self._programs.get(shapes)
+        if exe is None:
+            key = ("loop-frame", repr(self.car), repr(self.settings.structure()),
+                   self.generations, self.immigrants, self.cars, shapes)
+            exe = compiled.program(key, lambda: self._program.lower(keys, core, obs))
+            self._programs[shapes] = exe
+        return exe
 
     def step(self, observations: frames.Observation) -> list[Plan]:
         """One frame: a :class:`Plan` per car (``observations`` with a leading axis of
@@ -213,7 +229,7 @@ class Replanner:
         if not self.warm:
             self.reset()
         keys = self._keys(self._base, self.frame)
-        self._core, out = self._program(keys, self._core, obs)
+        self._core, out = self._executable(keys, self._core, obs)(keys, self._core, obs)
         circles, arcs, lines, count, length, violations, labels = jax.device_get(out)
         ms = (time.perf_counter() - t0) * 1e3
         self.frame += 1

@@ -53,6 +53,14 @@ def run(args: argparse.Namespace) -> int:
         from hga_jax import validation
 
         validation.at_least(args.scenes, "command line", "--scenes", 1)
+    from hga_jax.loop import study as replanning
+
+    if replanning.is_replanning(args.config):  # episodes, not runs: hga_jax/loop/study.py
+        got = replanning.run(args.config, out=args.out, quick=args.quick, force=args.force,
+                             progress=not args.quiet, episodes=args.scenes)
+        print(f"replanning study: {len(got['episodes'])} episodes; results in "
+              f"{got['folder']} (replanning.md)")
+        return 0
     outcome = run_study(args.config, quick=args.quick, out=args.out, scenes=args.scenes,
                         progress=not args.quiet, force=args.force,
                         figures=not args.no_figures)
