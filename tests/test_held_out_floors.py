@@ -75,7 +75,7 @@ FLOORS = {  # family: (pooled hit rate, worst scene's hit rate, feasible share)
 
 @pytest.mark.parametrize("families", [
     ("walled", "clusters9", "corridors9", "parking9"),  # one size: they share two programs
-    ("obstructed15",),
+    pytest.param(("obstructed15",), marks=pytest.mark.slow),  # 36 s of the default lane's
     pytest.param(("obstructed25",), marks=pytest.mark.slow),
     pytest.param(("corridors25",), marks=pytest.mark.slow),
     pytest.param(("parking25",), marks=pytest.mark.slow)], ids=lambda f: "+".join(f))
