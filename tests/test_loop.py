@@ -275,3 +275,23 @@ def test_the_sampler_takes_the_direct_path_when_it_is_clear_and_repeats_its_seed
     a = _episode("sampler", limit=1.0, seed=2)
     b = _episode("sampler", limit=1.0, seed=2)
     assert [f["ego"] for f in a.frames] == [f["ego"] for f in b.frames]
+
+
+def test_a_deadline_sets_each_frames_generations():
+    """With a deadline in ms the frame runs from 1 to ``generations`` generations as its time
+    model says fit: all of them for a deadline nothing reaches (the same plans as the
+    replanner without one), one for a deadline nothing meets; the plan says how many ran."""
+    loose = Replanner(CAR, BOUND, generations=3, seed=5, deadline_ms=1e6)
+    tight = Replanner(CAR, BOUND, generations=3, seed=5, deadline_ms=1e-3)
+    plain = Replanner(CAR, BOUND, generations=3, seed=5)
+    for rp in (loose, tight):
+        rp.warm_up()
+    assert (loose.budget(), tight.budget(), plain.budget()) == (3, 1, 3)
+    for f in range(3):
+        obs = observation([0.1 * f, 0, 0], [3, 0, 0], ROBOTS, BOUND)
+        a, b, c = loose.step(obs)[0], tight.step(obs)[0], plain.step(obs)[0]
+        assert (a.generations, b.generations, c.generations) == (3, 1, 3)
+        assert (a.length, a.perm.tolist(), a.labels.tolist()) == (
+            c.length, c.perm.tolist(), c.labels.tolist())
+    with pytest.raises(ValueError, match="deadline_ms"):
+        Replanner(CAR, BOUND, deadline_ms=0.0)

@@ -55,7 +55,7 @@ class Plan:
     0: clear of every robot as predicted), ``status`` (``"clear"``, ``"collides"``, or
     ``"start inside robot K"``: the car is within robot K's model circle now, and the plan
     is the least-violating way out the search found), the chromosome (``perm``, positional
-    ``labels``), and ``plan_ms`` (wall time of the step)."""
+    ``labels``), ``plan_ms`` (wall time of the step) and ``generations`` (how many ran)."""
 
     segments: list
     length: float
@@ -66,6 +66,7 @@ class Plan:
     plan_ms: float = 0.0
     speed: float = 1.0
     start: tuple = field(default_factory=tuple)
+    generations: int = 0
 
     def poses(self, spacing: float = 0.05) -> np.ndarray:
         """Poses along the plan every ``spacing`` m (and at each piece's ends), as
@@ -117,7 +118,7 @@ def _rescored(sa, core, settings: GASettings, key, immigrants: int):
 
 @fixed_stream
 def frame_step(key, core, obs, car: frames.Car, settings: GASettings, generations: int,
-               immigrants: int):
+               immigrants: int, live=None):
     """One frame of one car (module doc): ``(core after it, best decoded)``. ``core``: the
     GA state without its problem (:class:`~hga_jax.search.state.GAState`). Pure; vmapped
     over cars by :class:`Replanner`."""
@@ -125,7 +126,7 @@ def frame_step(key, core, obs, car: frames.Car, settings: GASettings, generation
     k_imm, k_gen = jax.random.split(key)
     core = _rescored(sa, core, settings.with_rates(core.rates), k_imm, immigrants)
     keys = jax.random.split(k_gen, generations)
-    state, _ = ga.steps(keys, core._replace(problem=sa))
+    state, _ = ga.steps(keys, core._replace(problem=sa), live)
     best = state.best
     labels = present_labels(sa, best.perm[None], best.labels[None])
     d = decode_batch(sa._replace(present=None), best.perm[None], labels, settings.collision)
@@ -135,12 +136,18 @@ def frame_step(key, core, obs, car: frames.Car, settings: GASettings, generation
 
 
 @functools.lru_cache(maxsize=None)
-def _program(car: frames.Car, settings: GASettings, generations: int, immigrants: int):
+def _program(car: frames.Car, settings: GASettings, generations: int, immigrants: int,
+             timed: bool = False):
     """The compiled frame program of a car and settings, shared by every replanner of them
-    (a new replanner of the same car compiles nothing new)."""
-    return jax.jit(jax.vmap(functools.partial(frame_step, car=car, settings=settings,
-                                              generations=generations,
-                                              immigrants=immigrants)))
+    (a new replanner of the same car compiles nothing new). ``timed``: the program takes a
+    fourth argument, one bool per generation (the same for every car), and runs only the
+    generations it marks (a deadline's budget, :class:`Replanner`)."""
+    fn = functools.partial(frame_step, car=car, settings=settings, generations=generations,
+                           immigrants=immigrants)
+    if timed:
+        return jax.jit(jax.vmap(lambda k, c, o, live: fn(k, c, o, live=live),
+                                in_axes=(0, 0, 0, None)))
+    return jax.jit(jax.vmap(fn))
 
 
 _frame_keys = jax.jit(jax.vmap(lambda k, f: jax.random.fold_in(k, f), (0, None)))
@@ -152,11 +159,18 @@ class Replanner:
     ``settings``: the GA (default :data:`LOOP`; no operator that reads host-built tables);
     ``generations``: per frame; ``immigrants``: the share of the population replaced by fresh
     chromosomes each frame; ``seed``: the loop's seed. ``warm=False`` starts every frame
-    from a fresh population (a cold planner with the same budget)."""
+    from a fresh population (a cold planner with the same budget).
+
+    ``deadline_ms``: a budget in wall time instead: each frame runs as many generations,
+    from 1 to ``generations``, as the frame's time model says fit (a fixed cost plus a cost
+    per generation, measured at :meth:`warm_up` and followed frame by frame); the plan says
+    how many ran (``Plan.generations``). The number then depends on the machine's speed, so
+    a seed no longer fixes the plans."""
 
     def __init__(self, car: frames.Car, bound: int, settings: GASettings | None = None,
                  generations: int = 5, immigrants: float = 0.15, seed: int = 0,
-                 cars: int = 1, warm: bool = True, dtype: Any = np.float32):
+                 cars: int = 1, warm: bool = True, dtype: Any = np.float32,
+                 deadline_ms: float | None = None):
         self.car, self.bound, self.cars, self.warm = car, int(bound), int(cars), bool(warm)
         self.settings = (settings or LOOP).replace(generations=max(int(generations), 1))
         if self.settings.uses_legs or self.settings.model.genes:
@@ -166,8 +180,13 @@ class Replanner:
         self.immigrants = int(round(immigrants * self.settings.population))
         self.seed, self.dtype = int(seed), np.dtype(dtype)
         self.frame = 0
+        if deadline_ms is not None and not (math.isfinite(deadline_ms) and deadline_ms > 0):
+            raise ValueError(f"deadline_ms: must be a number > 0, got {deadline_ms!r}")
+        self.deadline_ms = None if deadline_ms is None else float(deadline_ms)
+        self._timed = self.deadline_ms is not None
+        self._cost = [0.5, 0.5]  # ms: the frame's fixed cost and its cost per generation
         self._program = _program(car, self.settings.structure(), self.generations,
-                                 self.immigrants)
+                                 self.immigrants, self._timed)
         self._programs: dict = {}  # the compiled programs, by the observations' shapes
         self._keys = _frame_keys
         self._base = jax.vmap(lambda k: jax.random.fold_in(rng.key(self.seed), k))(
@@ -194,9 +213,29 @@ class Replanner:
         its seconds. The loop's frames then run without compiling."""
         t0 = time.perf_counter()
         obs = frames.observation([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [], self.bound, self.dtype)
-        self.step(jax.tree.map(lambda a: np.broadcast_to(a, (self.cars,) + a.shape), obs))
+        batch = jax.tree.map(lambda a: np.broadcast_to(a, (self.cars,) + a.shape), obs)
+        self.step(batch)
+        seconds = time.perf_counter() - t0
+        if self._timed:  # the time model: frames of 1 and of every generation, measured
+            one = [self._step_ms(batch, 1) for _ in range(5)]
+            full = [self._step_ms(batch, self.generations) for _ in range(5)]
+            per = max((np.median(full) - np.median(one)) / max(self.generations - 1, 1), 1e-3)
+            self._cost = [max(float(np.median(one)) - per, 0.0), float(per)]
         self.reset()
-        return time.perf_counter() - t0
+        return seconds
+
+    def _step_ms(self, batch, generations: int) -> float:
+        t0 = time.perf_counter()
+        self.step(batch, generations)
+        return (time.perf_counter() - t0) * 1e3
+
+    def budget(self) -> int:
+        """The generations the next frame runs: all of them without a deadline; with one,
+        as many as the time model says fit (at least 1)."""
+        if not self._timed:
+            return self.generations
+        fixed, per = self._cost
+        return int(np.clip(np.floor((self.deadline_ms - fixed) / per), 1, self.generations))
 
     def compiles(self) -> int:
         """How many frame programs this replanner has built so far (compiled, or loaded from
@@ -214,24 +253,32 @@ class Replanner:
         exe = self._programs.get(shapes)
         if exe is None:
             key = ("loop-frame", repr(self.car), repr(self.settings.structure()),
-                   self.generations, self.immigrants, self.cars, shapes)
-            exe = compiled.program(key, lambda: self._program.lower(keys, core, obs))
+                   self.generations, self.immigrants, self.cars, shapes, self._timed)
+            args = (keys, core, obs) + ((np.ones(self.generations, bool),) if self._timed
+                                        else ())
+            exe = compiled.program(key, lambda: self._program.lower(*args))
             self._programs[shapes] = exe
         return exe
 
-    def step(self, observations: frames.Observation) -> list[Plan]:
+    def step(self, observations: frames.Observation,
+             generations: int | None = None) -> list[Plan]:
         """One frame: a :class:`Plan` per car (``observations`` with a leading axis of
-        ``cars``, or one car's without it)."""
+        ``cars``, or one car's without it). ``generations``: this frame's budget, where a
+        deadline was set (default :meth:`budget`)."""
         t0 = time.perf_counter()
+        g = self.budget() if generations is None or not self._timed else int(generations)
         obs = jax.tree.map(lambda a: np.asarray(a), observations)
         if np.ndim(obs.pose) == 1:
             obs = jax.tree.map(lambda a: a[None], obs)
         if not self.warm:
             self.reset()
         keys = self._keys(self._base, self.frame)
-        self._core, out = self._executable(keys, self._core, obs)(keys, self._core, obs)
+        live = (np.arange(self.generations) < g,) if self._timed else ()
+        self._core, out = self._executable(keys, self._core, obs)(keys, self._core, obs, *live)
         circles, arcs, lines, count, length, violations, labels = jax.device_get(out)
         ms = (time.perf_counter() - t0) * 1e3
+        if self._timed and generations is None:  # follow the machine: the fixed cost
+            self._cost[0] = 0.8 * self._cost[0] + 0.2 * max(ms - g * self._cost[1], 0.0)
         self.frame += 1
         best_perm = np.asarray(self._core.best.perm)
         plans = []
@@ -240,7 +287,7 @@ class Replanner:
                               float(length[k]), int(violations[k]),
                               _status(obs, k, self.car, int(violations[k])),
                               best_perm[k], labels[k], ms, float(self.car.speed),
-                              tuple(float(v) for v in obs.pose[k])))
+                              tuple(float(v) for v in obs.pose[k]), g))
         return plans
 
 
