@@ -44,16 +44,19 @@ def main(argv=None) -> int:
     ap.add_argument("--frames", type=int, default=300)
     ap.add_argument("--generations", type=int, default=5)
     ap.add_argument("--cars", type=int, default=6)
+    ap.add_argument("--deadline-ms", type=float, default=None,
+                    help="a frame's budget in wall time (up to --generations generations)")
     args = ap.parse_args(argv)
     print(f"calibration: pure-Python loop of 10^6 multiply-adds: {calibration() * 1e3:.1f} ms")
     car = Car(0.09, 0.2, 1.0, (0.09, 4.41, 0.09, 2.91))
     goal = (4.2, 1.5, 0.0)
 
     def frames(cars: int):
-        rp = Replanner(car, BOUND, generations=args.generations, cars=cars, seed=1)
+        rp = Replanner(car, BOUND, generations=args.generations, cars=cars, seed=1,
+                       deadline_ms=args.deadline_ms)
         compile_s = rp.warm_up()
         poses = [(0.3, 1.5, 0.0)] * cars
-        times = []
+        times, ran = [], []
         for f in range(args.frames):
             t = f / 60.0
             k = [BOUND if cars == 1 else 6 + (f + c) % (BOUND - 5) for c in range(cars)]
@@ -61,6 +64,7 @@ def main(argv=None) -> int:
             batch = type(obs[0])(*(np.stack(x) for x in zip(*obs)))
             plans = rp.step(batch)
             times.append(plans[0].plan_ms)
+            ran.append(plans[0].generations)
             for c, p in enumerate(plans):
                 if p.segments and segments_length(p.segments) > 1.0 / 60.0:
                     x, y, h = at(p.segments, [1.0 / 60.0])[0][:3]
@@ -72,7 +76,11 @@ def main(argv=None) -> int:
               f"{rp.settings.population} per frame, {args.frames} frames: plan ms median "
               f"{np.median(ms):.2f}, p99 {np.percentile(ms, 99):.2f}, max {ms.max():.2f}; "
               f"frames over 16.7 ms: {int((ms > 16.7).sum())}; compile {compile_s:.1f} s; "
-              f"programs compiled: {rp.compiles()}", flush=True)
+              f"programs compiled: {rp.compiles()}"
+              + ("" if args.deadline_ms is None else
+                 f"; deadline {args.deadline_ms:g} ms: generations run median "
+                 f"{np.median(ran):g} (min {min(ran)}, max {max(ran)}), frames over it "
+                 f"{int((ms > args.deadline_ms).sum())}"), flush=True)
 
     frames(1)
     if args.cars > 1:
