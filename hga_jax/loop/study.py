@@ -152,8 +152,8 @@ def reference(sc) -> tuple[bool, float]:
     return bool(r.feasible), float(r.length) if r.feasible else math.nan
 
 
-def _cell_rows(study: ReplanningStudy, fam: Family, n: int, spec: PlannerSpec, scenes, refs,
-               progress) -> tuple[list[dict], float, int]:
+def _cell_rows(study: ReplanningStudy, fam: Family, n: int, spec: PlannerSpec, scenes,
+               refs) -> tuple[list[dict], float, int]:
     from . import batch, episode, planners as host_planners
 
     settings = episode.EpisodeSettings(time_limit=study.time_limit, motion=fam.motion,
@@ -186,8 +186,6 @@ def _cell_rows(study: ReplanningStudy, fam: Family, n: int, spec: PlannerSpec, s
                              frames=len(ep.frames),
                              colliding=sum(f["status"] != "clear" for f in ep.frames),
                              shift=math.nan))
-            if progress:
-                progress()
     seconds = time.perf_counter() - t0 - compile_s  # the episodes' time, compile apart
     for k, r in enumerate(rows):
         clear, length = refs[k]
@@ -250,8 +248,7 @@ def run(path: str, out: str | None = None, quick: bool = False, force: bool = Fa
                         print(f"{fam.name}, {n} robots, {spec.label}: "
                               f"{study.episodes if spec.name in BATCHED else min(study.episodes, study.host_episodes)} episodes",
                               flush=True)
-                    ep_rows, seconds, frames = _cell_rows(study, fam, n, spec, scenes, refs,
-                                                          None)
+                    ep_rows, seconds, frames = _cell_rows(study, fam, n, spec, scenes, refs)
                     got = {"rows": ep_rows, "seconds": seconds, "frames": frames}
                     tmp = cell + ".tmp"
                     with open(tmp, "w") as fh:
